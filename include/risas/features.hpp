@@ -1,0 +1,25 @@
+// The features of one frame, as the tools and files carry them.
+#pragma once
+
+#include "risas/descriptor.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace risas {
+
+struct Features {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;                    // N x D CV_32F
+  std::vector<KeypointGeometry> geometry; // N, or empty when unknown
+
+  std::vector<cv::Point3f> points() const {
+    std::vector<cv::Point3f> p;
+    p.reserve(geometry.size());
+    for (const KeypointGeometry& g : geometry) p.push_back(g.point);
+    return p;
+  }
+};
+
+}  // namespace risas

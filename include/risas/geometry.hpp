@@ -1,0 +1,35 @@
+// Paper III-A step 1: depth -> organised point cloud -> surface normals.
+// Computed once per frame and shared by the detector and the descriptor.
+#pragma once
+
+#include "risas/params.hpp"
+#include "risas/rgbd_frame.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <cmath>
+
+namespace risas {
+
+struct FrameGeometry {
+  cv::Mat points;   // CV_32FC3, metres, camera optical frame; NaN where depth is missing
+  cv::Mat normals;  // CV_32FC3, unit, facing the camera (n . p < 0); (0,0,0) where none
+
+  bool hasPoint(int row, int col) const { return !std::isnan(points.at<cv::Vec3f>(row, col)[2]); }
+  bool hasNormal(int row, int col) const { return normals.at<cv::Vec3f>(row, col)[2] != 0.0f; }
+};
+
+// Back-projects every pixel with fx and fy (the reference used fx for both).
+cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
+
+// Normals as PCL's IntegralImageNormalEstimation (COVARIANCE_MATRIX) does
+// them: the covariance of the points in a square window comes from integral
+// images of the point moments in O(1) per pixel, and its smallest eigenvector
+// (closed form) is the normal. The window shrinks near depth jumps so that it
+// never mixes two surfaces: near a depth jump it takes only the points of the
+// centre's own surface (PCL uses a depth-change map for the same purpose).
+cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params);
+
+FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);
+
+}  // namespace risas

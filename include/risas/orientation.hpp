@@ -1,0 +1,32 @@
+// Paper III-B-2: dominant orientation of a keypoint's patch.
+#pragma once
+
+#include "risas/intrinsics.hpp"
+#include "risas/neighbourhood.hpp"
+
+namespace risas {
+
+// Which branch of eq. 7 (or the fallback) gave theta.
+enum class OrientationSource {
+  Rejected,        // e2 > gamma e1 and e3 > gamma e1: no distinctive shape
+  PatchNormal,     // e2 > gamma e1, e3 <= gamma e1: d3D = v1 x v2
+  MajorAxis,       // otherwise: d3D = v1
+  IntensityCentroid,  // d3D (nearly) along the viewing ray: its projection is noise
+};
+
+struct Orientation {
+  OrientationSource source = OrientationSource::Rejected;
+  double theta = 0.0;  // radians, angle of d2D to the image u axis (v pointing down)
+};
+
+// PCA of the kept 3D points (e1 >= e2 >= e3, v1, v2, v3) and eq. 7 give
+// d3D, projected into the image at k_i to d2D. An eigenvector has no sign of
+// its own, so one is chosen deterministically: v1 x v2 faces the camera, v1
+// points to the side of the patch with more intensity mass. When d3D lies
+// within min_projection_angle_deg of the viewing ray (a patch facing the
+// camera) d2D has no stable direction and the intensity centroid, as in ORB,
+// gives theta instead.
+Orientation dominantOrientation(const Neighbourhood& neighbourhood, const Intrinsics& intrinsics, double gamma,
+                                double min_projection_angle_deg);
+
+}  // namespace risas

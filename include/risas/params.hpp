@@ -1,0 +1,141 @@
+// Parameters of every RISAS stage, named as the paper names them.
+//
+// Plain structs like OpenCV's ORB/SIFT parameters: defaults are the paper's
+// values (or the authors' reference implementation where the paper is silent),
+// validate() throws std::invalid_argument naming the offending field, and
+// write()/read() use cv::FileStorage so a parameter file round-trips. The
+// field names are the same in the YAML files, the tools and the ROS .cfg.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace risas {
+
+// Depth -> points -> normals (paper III-A step 1).
+struct GeometryParams {
+  // Half-width of the square window the normal is fitted over (ref: 5 -> 11x11).
+  int normal_radius = 5;
+  // Two 4-neighbours whose depths differ by more than this fraction of the
+  // depth lie on different surfaces; windows never straddle such a jump.
+  double depth_change_factor = 0.02;
+  // Fewest valid points a window needs for a normal (ref: 4).
+  int min_normal_points = 4;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
+// Keypoint detector (paper III-A steps 2-5, eq. 1).
+struct DetectorParams {
+  // Weight of appearance against shape in eq. 1: tau * grey + (1 - tau) * dot-product.
+  double tau = 0.8;
+  // Sectors per axis angle when labelling normals for the main normal.
+  int n_s = 4;
+  // Harris constant k of R = det(M) - k trace(M)^2.
+  double harris_k = 0.04;
+  // Gaussian pre-blur of the grey image (ref: 0.7 px).
+  double gray_sigma = 1.0;
+  // Gaussian smoothing of the dot-product image (ref: 5 px).
+  double dp_sigma = 3.0;
+  // Gaussian window w(x, y) of eq. 1 (ref: 1 px).
+  double window_sigma = 1.5;
+  // Keep responses above this fraction of the frame's largest response (ref: 0.001).
+  double response_threshold = 0.001;
+  // Half-width of the non-maximum suppression window (1 -> 3x3 as in the ref).
+  int nms_radius = 2;
+  // Cap on keypoints per frame, spread over a grid_cols x grid_rows grid.
+  int max_keypoints = 500;
+  int grid_cols = 8;
+  int grid_rows = 6;
+  // No keypoint closer than this to the image border (px).
+  int border = 8;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
+// Descriptor (paper III-B: scale, neighbourhood, orientation, encoding).
+struct DescriptorParams {
+  // Orientation eq. 6: when the second (third) eigenvalue exceeds gamma * e1.
+  double gamma = 0.8;
+  // Spatial sectors, intensity-rank groups and normal groups: the descriptor
+  // has n_pie * n_bin * (n_vec + 1) dimensions (8, 8, 2 -> 192).
+  int n_pie = 8;
+  int n_bin = 8;
+  int n_vec = 2;
+  // rho-bar: normal dot products rho >= rho_threshold form one label.
+  double rho_threshold = 0.9;
+  // Patch radius before the ellipse fit. 0: the paper's eq. 3-4, in pixels,
+  // constant for every depth below 2 m (eq. 3 truncates s to 1 there). > 0:
+  // the projection of a disc of this radius in metres, R = f r / z, which
+  // keeps the described surface the same at every distance.
+  double support_radius = 0.04;
+  // t of eq. 5: neighbours farther than this from the keypoint's 3D point (m)
+  // are background and eliminated.
+  double background_distance = 0.1;
+  // The rotated patch is resampled to a disc of this radius (ref: 20 -> 41x41).
+  int patch_radius = 20;
+  // Patch radius bounds in image pixels (ref: fall back above 50 px).
+  double min_radius_px = 6.0;
+  double max_radius_px = 50.0;
+  // Reject a keypoint when fewer than this fraction of its disc samples are
+  // foreground with a normal (ref: 0.7).
+  double min_valid_fraction = 0.5;
+  // Below this angle (deg) between d3D's image projection and the viewing ray
+  // the projected 3D direction is noise; the patch's intensity centroid gives
+  // theta instead.
+  double min_projection_angle_deg = 15.0;
+
+  int dimension() const { return n_pie * n_bin * (n_vec + 1); }
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
+// Nearest-neighbour distance ratio matching (paper IV-A).
+struct MatchParams {
+  double ratio = 0.8;
+  bool cross_check = false;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
+// RANSAC over 3-point samples with Umeyama refinement.
+struct MotionParams {
+  double inlier_threshold = 0.03;  // metres
+  int max_iterations = 2000;
+  double confidence = 0.999;
+  int min_inliers = 6;
+  unsigned int seed = 0x5eed;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
+// Everything together, as stored in a parameter file (top-level nodes
+// geometry, detector, descriptor, match, motion; any may be absent).
+struct RisasParams {
+  GeometryParams geometry;
+  DetectorParams detector;
+  DescriptorParams descriptor;
+  MatchParams match;
+  MotionParams motion;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& root);
+
+  // Throws std::runtime_error when the file cannot be opened or parsed and
+  // std::invalid_argument when a value is out of range.
+  static RisasParams load(const std::string& path);
+  void save(const std::string& path) const;
+};
+
+}  // namespace risas

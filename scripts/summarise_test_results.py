@@ -1,0 +1,26 @@
+#!/usr/bin/python3
+"""Counts the test cases in catkin's JUnit XML results and prints one closing
+line, 'N passed, N failed', exiting 1 when any failed, errored or no test ran."""
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+passed = failed = skipped = 0
+for xml in sorted(Path(sys.argv[1]).rglob("*.xml")):
+    try:
+        root = ET.parse(xml).getroot()
+    except ET.ParseError as e:
+        print(f"{xml}: unreadable result file ({e})")
+        failed += 1
+        continue
+    for case in root.iter("testcase"):
+        if case.find("failure") is not None or case.find("error") is not None:
+            failed += 1
+            print(f"FAILED: {case.get('classname')}.{case.get('name')}")
+        elif case.find("skipped") is not None or case.get("status") == "notrun":
+            skipped += 1
+        else:
+            passed += 1
+
+print(f"{passed} passed, {failed} failed, {skipped} skipped")
+sys.exit(1 if failed or passed == 0 else 0)

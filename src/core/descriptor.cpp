@@ -1,0 +1,65 @@
+#include "risas/descriptor.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/neighbourhood.hpp"
+#include "risas/orientation.hpp"
+
+#include <cmath>
+
+namespace risas {
+
+Descriptor::Descriptor(const DescriptorParams& params) : params_(params), encoder_(params) {}
+
+void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, std::vector<cv::KeyPoint>& keypoints,
+                         cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
+  if (geometry.points.size() != frame.size()) throw InputError("geometry does not belong to this frame");
+  const Intrinsics& K = frame.intrinsics();
+  const ScaleRange scales = frameScaleRange(frame.depth());
+  const int n = static_cast<int>(keypoints.size());
+  cv::Mat rows(n, descriptorSize(), CV_32F);
+  std::vector<char> described(static_cast<size_t>(n), 0);
+  std::vector<KeypointGeometry> geometries(static_cast<size_t>(n));
+
+  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      cv::KeyPoint& kp = keypoints[static_cast<size_t>(i)];
+      const int u = cvRound(kp.pt.x), v = cvRound(kp.pt.y);
+      if (u < 0 || v < 0 || u >= frame.size().width || v >= frame.size().height || !geometry.hasPoint(v, u)) continue;
+      const float R = patchRadius(geometry.points.at<cv::Vec3f>(v, u)[2], scales, params_.support_radius, K);
+      const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
+      if (!nb) continue;
+      const Orientation orientation = dominantOrientation(*nb, K, params_.gamma, params_.min_projection_angle_deg);
+      if (orientation.source == OrientationSource::Rejected) continue;
+      const float radius = ellipseRadius(*nb, K, params_.min_radius_px, params_.max_radius_px);
+      if (!encoder_.encode(frame, geometry, *nb, radius, orientation.theta, rows.ptr<float>(i))) continue;
+
+      double degrees = orientation.theta * 180.0 / CV_PI;
+      if (degrees < 0.0) degrees += 360.0;
+      kp.angle = static_cast<float>(degrees >= 360.0 ? 0.0 : degrees);
+      kp.size = 2.0f * radius;
+      const double focal = 0.5 * (K.fx + K.fy);
+      geometries[static_cast<size_t>(i)] = {
+          cv::Point3f(static_cast<float>(nb->point.x()), static_cast<float>(nb->point.y()),
+                      static_cast<float>(nb->point.z())),
+          cv::Vec3f(static_cast<float>(nb->normal.x()), static_cast<float>(nb->normal.y()),
+                    static_cast<float>(nb->normal.z())),
+          static_cast<float>(radius * nb->point.z() / focal)};
+      described[static_cast<size_t>(i)] = 1;
+    }
+  });
+
+  std::vector<cv::KeyPoint> kept;
+  std::vector<KeypointGeometry> kept_info;
+  cv::Mat kept_rows(0, descriptorSize(), CV_32F);
+  for (int i = 0; i < n; ++i) {
+    if (!described[static_cast<size_t>(i)]) continue;
+    kept.push_back(keypoints[static_cast<size_t>(i)]);
+    kept_info.push_back(geometries[static_cast<size_t>(i)]);
+    kept_rows.push_back(rows.row(i));
+  }
+  keypoints.swap(kept);
+  descriptors = kept_rows;
+  if (info) info->swap(kept_info);
+}
+
+}  // namespace risas

@@ -1,0 +1,96 @@
+#include "risas/encoding.hpp"
+
+#include "risas/ranking.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace risas {
+
+PatchEncoder::PatchEncoder(const DescriptorParams& params) : params_(params) {
+  params_.validate();
+  const int r = params_.patch_radius;
+  const double sector_angle = 2.0 * CV_PI / params_.n_pie;
+  for (int j = -r; j <= r; ++j) {
+    for (int i = -r; i <= r; ++i) {
+      if (i * i + j * j > r * r) continue;
+      double angle = std::atan2(static_cast<double>(j), static_cast<double>(i));
+      if (angle < 0.0) angle += 2.0 * CV_PI;
+      const int sector = std::min(params_.n_pie - 1, static_cast<int>(angle / sector_angle));
+      disc_.push_back({static_cast<float>(i) / r, static_cast<float>(j) / r, sector});
+    }
+  }
+}
+
+bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry, const Neighbourhood& nb,
+                          float radius_px, double theta, float* out) const {
+  const cv::Mat& gray = frame.gray();
+  const float max_u = static_cast<float>(gray.cols - 1), max_v = static_cast<float>(gray.rows - 1);
+  const float cu = nb.centre.x, cv_ = nb.centre.y;
+  const float cos_t = static_cast<float>(std::cos(theta)) * radius_px;
+  const float sin_t = static_cast<float>(std::sin(theta)) * radius_px;
+  const cv::Vec3f k(static_cast<float>(nb.point.x()), static_cast<float>(nb.point.y()),
+                    static_cast<float>(nb.point.z()));
+  const cv::Vec3f n_k(static_cast<float>(nb.normal.x()), static_cast<float>(nb.normal.y()),
+                      static_cast<float>(nb.normal.z()));
+  const float t2 = static_cast<float>(params_.background_distance * params_.background_distance);
+  const float rho_bar = static_cast<float>(params_.rho_threshold);
+  constexpr int kRhoLevels = 256;
+
+  std::vector<int> sectors;
+  std::vector<uint16_t> intensities;
+  std::vector<float> rhos;
+  sectors.reserve(disc_.size());
+  intensities.reserve(disc_.size());
+  rhos.reserve(disc_.size());
+  for (const DiscSample& s : disc_) {
+    // Patch x axis along theta, y axis 90 degrees on (image v points down).
+    const float x = cu + cos_t * s.i - sin_t * s.j;
+    const float y = cv_ + sin_t * s.i + cos_t * s.j;
+    if (!(x >= 0.0f && y >= 0.0f && x <= max_u && y <= max_v)) continue;
+    const int u = cvRound(x), v = cvRound(y);
+    const cv::Vec3f& p = geometry.points.at<cv::Vec3f>(v, u);
+    const cv::Vec3f& n = geometry.normals.at<cv::Vec3f>(v, u);
+    if (std::isnan(p[2]) || n[2] == 0.0f) continue;
+    const cv::Vec3f d = p - k;
+    if (d.dot(d) >= t2) continue;  // background (eq. 5)
+
+    const int u0 = std::min(static_cast<int>(x), gray.cols - 2), v0 = std::min(static_cast<int>(y), gray.rows - 2);
+    const float a = x - u0, b = y - v0;
+    const uchar* row0 = gray.ptr<uchar>(v0);
+    const uchar* row1 = gray.ptr<uchar>(v0 + 1);
+    const float intensity = (1 - b) * ((1 - a) * row0[u0] + a * row0[u0 + 1]) + b * ((1 - a) * row1[u0] + a * row1[u0 + 1]);
+
+    sectors.push_back(s.sector);
+    intensities.push_back(static_cast<uint16_t>(std::lround(intensity)));
+    rhos.push_back(std::abs(n_k.dot(n)));
+  }
+  if (sectors.size() < params_.min_valid_fraction * disc_.size() || sectors.size() < 3) return false;
+
+  std::vector<uint8_t> intensity_labels;
+  rankGroups(intensities, 256, params_.n_bin, intensity_labels);
+
+  // Shape labels: the flat majority (rho >= rho-bar) is label n_vec; the rest
+  // are ranked and split into n_vec groups.
+  std::vector<uint16_t> curved;
+  for (float rho : rhos) {
+    if (rho < rho_bar) curved.push_back(static_cast<uint16_t>(std::min(kRhoLevels - 1, static_cast<int>(rho / rho_bar * kRhoLevels))));
+  }
+  std::vector<uint8_t> curved_labels;
+  rankGroups(curved, kRhoLevels, params_.n_vec, curved_labels);
+
+  const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
+  std::fill(out, out + dimension(), 0.0f);
+  size_t next_curved = 0;
+  for (size_t i = 0; i < sectors.size(); ++i) {
+    const int shape = rhos[i] >= rho_bar ? params_.n_vec : curved_labels[next_curved++];
+    ++out[(sectors[i] * n_bin + intensity_labels[i]) * n_shape + shape];
+  }
+  float norm = 0.0f;
+  for (int d = 0; d < dimension(); ++d) norm += out[d] * out[d];
+  const float inv = 1.0f / std::sqrt(norm);
+  for (int d = 0; d < dimension(); ++d) out[d] *= inv;
+  return true;
+}
+
+}  // namespace risas

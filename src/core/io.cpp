@@ -1,0 +1,112 @@
+#include "risas/io.hpp"
+
+#include "risas/errors.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace risas {
+
+Intrinsics readIntrinsicsFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open intrinsics file " + path);
+  std::vector<double> values;
+  std::string token;
+  while (in >> token) {
+    std::istringstream number(token);
+    double v = 0.0;
+    if (!(number >> v) || !number.eof()) throw InputError("intrinsics file " + path + ": '" + token + "' is not a number");
+    values.push_back(v);
+  }
+  if (values.size() != 9) {
+    throw InputError("intrinsics file " + path + " must hold a 3x3 matrix (9 numbers), found " +
+                     std::to_string(values.size()));
+  }
+  try {
+    return Intrinsics::fromMatrix(cv::Matx33d(values.data()));
+  } catch (const InputError& e) {
+    throw InputError("intrinsics file " + path + ": " + e.what());
+  }
+}
+
+RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics) {
+  const cv::Mat color = cv::imread(color_path, cv::IMREAD_COLOR);
+  if (color.empty()) throw InputError("cannot read colour image " + color_path);
+  const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH);
+  if (depth.empty()) throw InputError("cannot read depth image " + depth_path);
+  if (depth.type() != CV_16UC1) {
+    throw InputError("depth image " + depth_path + " must be 16-bit millimetres, got " + cv::typeToString(depth.type()));
+  }
+  try {
+    return RgbdFrame(color, depth, intrinsics);
+  } catch (const InputError& e) {
+    throw InputError(color_path + " + " + depth_path + ": " + e.what());
+  }
+}
+
+void writeFeatures(const std::string& path, const Features& features) {
+  const int n = static_cast<int>(features.keypoints.size());
+  if (features.descriptors.rows != n || (!features.geometry.empty() && static_cast<int>(features.geometry.size()) != n)) {
+    throw InputError("features to write are inconsistent: keypoints, descriptors and geometry differ in count");
+  }
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::WRITE);
+  } catch (const cv::Exception& e) {
+    throw InputError("cannot write features file " + path + ": " + e.msg);
+  }
+  if (!fs.isOpened()) throw InputError("cannot write features file " + path);
+  cv::Mat points(n, 3, CV_32F), normals(n, 3, CV_32F), radius(n, 1, CV_32F);
+  for (int i = 0; i < static_cast<int>(features.geometry.size()); ++i) {
+    const KeypointGeometry& g = features.geometry[static_cast<size_t>(i)];
+    points.at<float>(i, 0) = g.point.x;
+    points.at<float>(i, 1) = g.point.y;
+    points.at<float>(i, 2) = g.point.z;
+    for (int c = 0; c < 3; ++c) normals.at<float>(i, c) = g.normal[c];
+    radius.at<float>(i, 0) = g.support_radius;
+  }
+  fs << "descriptor_type" << "RISAS";
+  cv::write(fs, "keypoints", features.keypoints);
+  fs << "descriptors" << features.descriptors;
+  if (!features.geometry.empty()) {
+    fs << "points3d" << points << "normals" << normals << "support_radius" << radius;
+  }
+}
+
+Features readFeatures(const std::string& path) {
+  Features features;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) throw InputError("cannot open features file " + path);
+    if (fs["keypoints"].empty() || fs["descriptors"].empty()) {
+      throw InputError("features file " + path + " has no keypoints or descriptors node");
+    }
+    cv::read(fs["keypoints"], features.keypoints);
+    fs["descriptors"] >> features.descriptors;
+    cv::Mat points, normals, radius;
+    fs["points3d"] >> points;
+    fs["normals"] >> normals;
+    fs["support_radius"] >> radius;
+    const int n = static_cast<int>(features.keypoints.size());
+    if (features.descriptors.rows != n || (n > 0 && features.descriptors.type() != CV_32F)) {
+      throw InputError("features file " + path + ": descriptors are not " + std::to_string(n) + " CV_32F rows");
+    }
+    if (!points.empty()) {
+      if (points.rows != n || points.cols != 3 || normals.rows != n || normals.cols != 3 || radius.rows != n) {
+        throw InputError("features file " + path + ": points3d/normals/support_radius do not match the keypoints");
+      }
+      for (int i = 0; i < n; ++i) {
+        features.geometry.push_back({cv::Point3f(points.at<float>(i, 0), points.at<float>(i, 1), points.at<float>(i, 2)),
+                                     cv::Vec3f(normals.at<float>(i, 0), normals.at<float>(i, 1), normals.at<float>(i, 2)),
+                                     radius.at<float>(i, 0)});
+      }
+    }
+  } catch (const cv::Exception& e) {
+    throw InputError("cannot parse features file " + path + ": " + e.msg);
+  }
+  return features;
+}
+
+}  // namespace risas

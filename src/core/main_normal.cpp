@@ -1,0 +1,66 @@
+#include "risas/main_normal.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace risas {
+
+cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) {
+  cv::Vec3i labels;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double angle = std::acos(std::clamp(static_cast<double>(normal[axis]), -1.0, 1.0));
+    labels[axis] = std::min(n_s - 1, static_cast<int>(angle / (CV_PI / n_s)));
+  }
+  return labels;
+}
+
+cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
+  CV_Assert(normals.type() == CV_32FC3 && n_s >= 1);
+  const auto index = [n_s](const cv::Vec3i& l) { return (l[0] * n_s + l[1]) * n_s + l[2]; };
+  std::vector<int> histogram(static_cast<size_t>(n_s * n_s * n_s), 0);
+  std::vector<cv::Vec3d> sums(histogram.size(), cv::Vec3d(0, 0, 0));
+  for (int r = 0; r < normals.rows; ++r) {
+    const cv::Vec3f* n = normals.ptr<cv::Vec3f>(r);
+    for (int c = 0; c < normals.cols; ++c) {
+      if (n[c][2] == 0.0f) continue;  // no normal
+      const int bin = index(normalLabels(n[c], n_s));
+      ++histogram[bin];
+      sums[bin] += cv::Vec3d(n[c][0], n[c][1], n[c][2]);
+    }
+  }
+  const auto mode = std::max_element(histogram.begin(), histogram.end()) - histogram.begin();
+  if (histogram[mode] == 0) return {0.0f, 0.0f, -1.0f};
+  const cv::Vec3d mean = cv::normalize(sums[mode]);
+  return cv::Vec3f(static_cast<float>(mean[0]), static_cast<float>(mean[1]), static_cast<float>(mean[2]));
+}
+
+cv::Mat dotProductImage(const cv::Mat& normals, const cv::Vec3f& n_main, double sigma) {
+  CV_Assert(normals.type() == CV_32FC3);
+  cv::Mat p(normals.size(), CV_32FC1, cv::Scalar(0));
+  cv::Mat weight(normals.size(), CV_32FC1, cv::Scalar(0));
+  for (int r = 0; r < normals.rows; ++r) {
+    const cv::Vec3f* n = normals.ptr<cv::Vec3f>(r);
+    float* pr = p.ptr<float>(r);
+    float* wr = weight.ptr<float>(r);
+    for (int c = 0; c < normals.cols; ++c) {
+      if (n[c][2] == 0.0f) continue;
+      pr[c] = 255.0f * std::abs(n_main.dot(n[c]));
+      wr[c] = 1.0f;
+    }
+  }
+  if (sigma <= 0.0) return p;
+  cv::GaussianBlur(p, p, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+  cv::GaussianBlur(weight, weight, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+  // Far inside large holes the weight vanishes; those pixels have no
+  // keypoints and no neighbour with one within the Harris window, so 0 is as
+  // good as any value there.
+  cv::Mat covered = weight > 1e-3f;
+  cv::divide(p, cv::max(weight, 1e-3f), p);
+  p.setTo(0.0f, ~covered);
+  return p;
+}
+
+}  // namespace risas

@@ -1,0 +1,162 @@
+#include "risas/geometry.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace risas {
+namespace {
+
+// Zeroth, first and second moments of a set of points: all the covariance of a
+// window needs, and additive, so a box sum is four look-ups in an integral image.
+struct Moments {
+  double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+
+  void add(const cv::Vec3f& p) {
+    const double px = p[0], py = p[1], pz = p[2];
+    n += 1; x += px; y += py; z += pz;
+    xx += px * px; xy += px * py; xz += px * pz; yy += py * py; yz += py * pz; zz += pz * pz;
+  }
+  Moments& operator+=(const Moments& o) {
+    n += o.n; x += o.x; y += o.y; z += o.z;
+    xx += o.xx; xy += o.xy; xz += o.xz; yy += o.yy; yz += o.yz; zz += o.zz;
+    return *this;
+  }
+  Moments& operator-=(const Moments& o) {
+    n -= o.n; x -= o.x; y -= o.y; z -= o.z;
+    xx -= o.xx; xy -= o.xy; xz -= o.xz; yy -= o.yy; yz -= o.yz; zz -= o.zz;
+    return *this;
+  }
+};
+
+class MomentIntegral {
+ public:
+  explicit MomentIntegral(const cv::Mat& points)
+      : stride_(points.cols + 1), sums_(static_cast<size_t>(points.rows + 1) * stride_) {
+    for (int v = 0; v < points.rows; ++v) {
+      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      Moments row;
+      for (int u = 0; u < points.cols; ++u) {
+        if (!std::isnan(p[u][2])) row.add(p[u]);
+        Moments& cell = at(v + 1, u + 1);
+        cell = at(v, u + 1);
+        cell += row;
+      }
+    }
+  }
+
+  // Moments of the valid points in rows [r0, r1) and columns [c0, c1).
+  Moments box(int r0, int c0, int r1, int c1) const {
+    Moments m = at(r1, c1);
+    m -= at(r0, c1);
+    m -= at(r1, c0);
+    m += at(r0, c0);
+    return m;
+  }
+
+ private:
+  Moments& at(int r, int c) { return sums_[static_cast<size_t>(r) * stride_ + c]; }
+  const Moments& at(int r, int c) const { return sums_[static_cast<size_t>(r) * stride_ + c]; }
+
+  size_t stride_;
+  std::vector<Moments> sums_;
+};
+
+// 0 at pixels with no depth or bordering a different surface (a depth jump to
+// a 4-neighbour or a missing neighbour, which on Kinect-type sensors is the
+// shadow of a jump), 255 elsewhere: the interiors of surfaces.
+cv::Mat surfaceInteriorMask(const cv::Mat& points, double depth_change_factor) {
+  cv::Mat mask(points.size(), CV_8UC1, cv::Scalar(0));
+  const auto depth = [&](int r, int c) { return points.at<cv::Vec3f>(r, c)[2]; };
+  for (int r = 0; r < points.rows; ++r) {
+    for (int c = 0; c < points.cols; ++c) {
+      const float z = depth(r, c);
+      if (std::isnan(z)) continue;
+      const float limit = static_cast<float>(depth_change_factor) * z;
+      const auto jumps = [&](int rn, int cn) {
+        if (rn < 0 || cn < 0 || rn >= points.rows || cn >= points.cols) return false;
+        const float zn = depth(rn, cn);
+        return std::isnan(zn) || std::abs(zn - z) > limit;
+      };
+      if (!(jumps(r - 1, c) || jumps(r + 1, c) || jumps(r, c - 1) || jumps(r, c + 1))) mask.at<uchar>(r, c) = 255;
+    }
+  }
+  return mask;
+}
+
+// Moments of the window's points on the same surface as its centre: the
+// O(window) path for pixels near a jump, where a plain box would mix surfaces.
+Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius) {
+  Moments m;
+  const int label = surfaces.at<int>(v, u);
+  for (int r = std::max(v - radius, 0); r <= std::min(v + radius, points.rows - 1); ++r) {
+    const int* l = surfaces.ptr<int>(r);
+    const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
+    for (int c = std::max(u - radius, 0); c <= std::min(u + radius, points.cols - 1); ++c) {
+      if (l[c] == label) m.add(p[c]);
+    }
+  }
+  return m;
+}
+
+// Unit normal of the window's points facing the camera, or none.
+bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
+  const double inv = 1.0 / m.n;
+  const double mx = m.x * inv, my = m.y * inv, mz = m.z * inv;
+  Eigen::Matrix3f cov;
+  cov(0, 0) = static_cast<float>(m.xx * inv - mx * mx);
+  cov(0, 1) = cov(1, 0) = static_cast<float>(m.xy * inv - mx * my);
+  cov(0, 2) = cov(2, 0) = static_cast<float>(m.xz * inv - mx * mz);
+  cov(1, 1) = static_cast<float>(m.yy * inv - my * my);
+  cov(1, 2) = cov(2, 1) = static_cast<float>(m.yz * inv - my * mz);
+  cov(2, 2) = static_cast<float>(m.zz * inv - mz * mz);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
+  solver.computeDirect(cov);  // closed form for 3x3; eigenvalues ascending
+  Eigen::Vector3f n = solver.eigenvectors().col(0);
+  if (!n.allFinite() || n.squaredNorm() < 0.5f) return false;
+  n.normalize();
+  if (n.dot(Eigen::Vector3f(centre[0], centre[1], centre[2])) > 0.0f) n = -n;
+  normal = cv::Vec3f(n.x(), n.y(), n.z());
+  return true;
+}
+
+}  // namespace
+
+cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params) {
+  CV_Assert(points.type() == CV_32FC3);
+  const MomentIntegral integral(points);
+  const cv::Mat interior = surfaceInteriorMask(points, params.depth_change_factor);
+  // Chessboard distance to the nearest surface border: a window of that
+  // half-width holds one surface only, and its box sum is O(1).
+  cv::Mat distance, surfaces;
+  cv::distanceTransform(interior, distance, cv::DIST_C, 3);
+  // Closer to a border, the window keeps its size but takes only the points of
+  // the centre's own surface: the connected part of the interior it lies in.
+  // Border pixels themselves (label 0) get no normal.
+  cv::connectedComponents(interior, surfaces, 4, CV_32S);
+
+  const int R = params.normal_radius;
+  cv::Mat normals(points.size(), CV_32FC3, cv::Scalar::all(0));
+  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      const float* d = distance.ptr<float>(v);
+      const int* label = surfaces.ptr<int>(v);
+      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < points.cols; ++u) {
+        if (label[u] == 0) continue;
+        const Moments m = d[u] > R ? integral.box(std::max(v - R, 0), std::max(u - R, 0),
+                                                  std::min(v + R + 1, points.rows), std::min(u + R + 1, points.cols))
+                                   : sameSurfaceMoments(points, surfaces, v, u, R);
+        if (m.n < params.min_normal_points) continue;
+        fitNormal(m, p[u], n[u]);
+      }
+    }
+  });
+  return normals;
+}
+
+}  // namespace risas

@@ -1,0 +1,119 @@
+#include "cli.hpp"
+
+#include "risas/io.hpp"
+
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace risas::cli {
+namespace {
+
+double parseNumber(const std::string& name, const std::string& text) {
+  std::istringstream in(text);
+  double value = 0.0;
+  if (!(in >> value) || !in.eof()) throw UsageError("--" + name + " expects a number, got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+Args::Args(int argc, char** argv, const std::string& synopsis, std::vector<Option> options) {
+  options.push_back({"help", "", "print this help and exit"});
+  const auto find = [&](const std::string& name) -> const Option* {
+    for (const Option& o : options) {
+      if (o.name == name) return &o;
+    }
+    return nullptr;
+  };
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.rfind("--", 0) != 0) throw UsageError("unexpected argument '" + arg + "'");
+    arg = arg.substr(2);
+    std::string value;
+    const size_t eq = arg.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    }
+    const Option* option = find(arg);
+    if (!option) throw UsageError("unknown option --" + arg);
+    if (option->value_name.empty()) {
+      if (inline_value) throw UsageError("--" + arg + " takes no value");
+      value = "1";
+    } else if (!inline_value) {
+      if (i + 1 >= argc) throw UsageError("--" + arg + " needs a value (" + option->value_name + ")");
+      value = argv[++i];
+    }
+    values_[arg] = value;
+  }
+  if (has("help")) {
+    std::cout << synopsis << "\n\nOptions:\n";
+    for (const Option& o : options) {
+      const std::string left = "--" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);
+      std::cout << "  " << std::left << std::setw(28) << left << o.help << "\n";
+    }
+    std::exit(0);
+  }
+}
+
+std::string Args::get(const std::string& name) const {
+  const auto it = values_.find(name);
+  if (it == values_.end()) throw UsageError("missing --" + name);
+  return it->second;
+}
+
+std::string Args::get(const std::string& name, const std::string& fallback) const {
+  return has(name) ? get(name) : fallback;
+}
+
+double Args::getDouble(const std::string& name) const { return parseNumber(name, get(name)); }
+
+double Args::getDouble(const std::string& name, double fallback) const {
+  return has(name) ? getDouble(name) : fallback;
+}
+
+int Args::getInt(const std::string& name, int fallback) const {
+  if (!has(name)) return fallback;
+  const double value = getDouble(name);
+  if (value != static_cast<int>(value)) throw UsageError("--" + name + " expects a whole number");
+  return static_cast<int>(value);
+}
+
+std::vector<Option> intrinsicsOptions() {
+  return {{"intrinsics", "K.txt", "3x3 camera matrix in text (the dataset's camera-intrinsics.txt)"},
+          {"fx", "F", "focal length x in pixels (instead of --intrinsics)"},
+          {"fy", "F", "focal length y in pixels"},
+          {"cx", "C", "principal point x in pixels"},
+          {"cy", "C", "principal point y in pixels"}};
+}
+
+Option paramsOption() { return {"params", "P.yml", "parameter file (cv::FileStorage; see config/risas.yaml)"}; }
+
+Intrinsics intrinsicsFrom(const Args& args) {
+  if (args.has("intrinsics")) return readIntrinsicsFile(args.get("intrinsics"));
+  if (!args.has("fx")) throw UsageError("give --intrinsics K.txt or --fx --fy --cx --cy");
+  Intrinsics K(args.getDouble("fx"), args.getDouble("fy"), args.getDouble("cx"), args.getDouble("cy"));
+  K.validate();
+  return K;
+}
+
+RisasParams paramsFrom(const Args& args) {
+  return args.has("params") ? RisasParams::load(args.get("params")) : RisasParams();
+}
+
+int runTool(const char* tool, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const UsageError& e) {
+    std::cerr << tool << ": " << e.what() << " (see " << tool << " --help)\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << tool << ": error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace risas::cli

@@ -1,0 +1,55 @@
+// What the command-line tools share: option parsing with --help, reading a
+// frame and parameters from options, and turning errors into exit codes.
+#pragma once
+
+#include "risas/intrinsics.hpp"
+#include "risas/params.hpp"
+#include "risas/rgbd_frame.hpp"
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace risas::cli {
+
+struct Option {
+  std::string name;  // without the leading --
+  std::string value_name;  // empty for a flag
+  std::string help;
+};
+
+// Thrown for wrong usage; runTool prints it with a hint to --help, exit 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Args {
+ public:
+  // Accepts --name value and --name=value; --help prints the usage and exits 0.
+  Args(int argc, char** argv, const std::string& synopsis, std::vector<Option> options);
+
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  std::string get(const std::string& name) const;  // UsageError when missing
+  std::string get(const std::string& name, const std::string& fallback) const;
+  double getDouble(const std::string& name) const;
+  double getDouble(const std::string& name, double fallback) const;
+  int getInt(const std::string& name, int fallback) const;
+
+ private:
+  std::map<std::string, std::string> values_;
+};
+
+// The intrinsics given as --<prefix>intrinsics K.txt or as --fx --fy --cx --cy.
+Intrinsics intrinsicsFrom(const Args& args);
+// --params P.yml if given, else the defaults.
+RisasParams paramsFrom(const Args& args);
+// The options intrinsicsFrom and paramsFrom read, for a tool's option list.
+std::vector<Option> intrinsicsOptions();
+Option paramsOption();
+
+// Runs the body; prints errors as "<tool>: error: ..." and returns the exit
+// code: 0 ok, 1 failure (bad input, unreadable files), 2 wrong usage.
+int runTool(const char* tool, const std::function<int()>& body);
+
+}  // namespace risas::cli

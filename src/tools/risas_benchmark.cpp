@@ -1,0 +1,133 @@
+// risas_benchmark: ms per frame for each RISAS stage beside OpenCV ORB (1000
+// features) and SIFT on the same frames in the same run.
+#include "cli.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/io.hpp"
+#include "risas/risas.hpp"
+#include "risas/synthetic_scene.hpp"
+
+#include <opencv2/features2d.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<risas::RgbdFrame> loadSequence(const fs::path& dir, int max_frames) {
+  fs::path intrinsics;
+  for (fs::path p = fs::absolute(dir); !p.empty(); p = p.parent_path()) {
+    if (fs::exists(p / "camera-intrinsics.txt")) {
+      intrinsics = p / "camera-intrinsics.txt";
+      break;
+    }
+    if (p == p.parent_path()) break;
+  }
+  if (intrinsics.empty()) throw risas::InputError("no camera-intrinsics.txt in " + dir.string() + " or above it");
+  const risas::Intrinsics K = risas::readIntrinsicsFile(intrinsics.string());
+  std::vector<risas::RgbdFrame> frames;
+  for (int k = 1; static_cast<int>(frames.size()) < max_frames; ++k) {
+    const fs::path rgb = dir / ("rgb_" + std::to_string(k) + ".png");
+    const fs::path depth = dir / ("depth_" + std::to_string(k) + ".png");
+    if (!fs::exists(rgb) || !fs::exists(depth)) break;
+    frames.push_back(risas::loadRgbdFrame(rgb.string(), depth.string(), K));
+  }
+  if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir.string());
+  return frames;
+}
+
+std::vector<risas::RgbdFrame> syntheticSequence(int count) {
+  const risas::SyntheticScene scene = risas::SyntheticScene::demo();
+  std::vector<risas::RgbdFrame> frames;
+  for (int k = 0; k < count; ++k) {
+    const risas::SyntheticRender r = scene.render(risas::syntheticIntrinsics(), cv::Size(640, 480),
+                                                  risas::SyntheticScene::demoCamera(0.08 * k));
+    frames.emplace_back(r.bgr, r.depth_mm, risas::syntheticIntrinsics());
+  }
+  return frames;
+}
+
+// Median over repeats of one call, in milliseconds.
+double timeMs(int repeats, const std::function<void()>& work) {
+  std::vector<double> ms;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+  return ms[ms.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return risas::cli::runTool("risas_benchmark", [&] {
+    const risas::cli::Args args(
+        argc, argv,
+        "risas_benchmark [--data SEQUENCE_DIR] [--frames 5] [--repeats 3] [--threads 1] [--params P.yml]\n"
+        "Times each RISAS stage per 640x480 frame beside OpenCV ORB (1000 features) and SIFT\n"
+        "on the same frames. Without --data it renders synthetic frames.",
+        {{"data", "DIR", "a sequence folder with rgb_k.png/depth_k.png (camera-intrinsics.txt in it or above)"},
+         {"frames", "N", "frames to time (default 5)"},
+         {"repeats", "N", "runs per frame, the median counts (default 3)"},
+         {"threads", "N", "OpenCV threads (default 1: single-threaded; 0: all cores)"},
+         risas::cli::paramsOption()});
+    const int count = args.getInt("frames", 5), repeats = args.getInt("repeats", 3);
+    const int threads = args.getInt("threads", 1);
+    if (count < 1 || repeats < 1) throw risas::cli::UsageError("--frames and --repeats must be at least 1");
+    cv::setNumThreads(threads == 0 ? -1 : threads);
+    const std::vector<risas::RgbdFrame> frames =
+        args.has("data") ? loadSequence(args.get("data"), count) : syntheticSequence(count);
+    const auto risas = risas::Risas::create(risas::cli::paramsFrom(args));
+    const auto orb = cv::ORB::create(1000);
+    const auto sift = cv::SIFT::create();
+
+    double geometry_ms = 0, detector_ms = 0, descriptor_ms = 0, total_ms = 0, orb_ms = 0, sift_ms = 0;
+    double risas_kp = 0, orb_kp = 0, sift_kp = 0;
+    for (const risas::RgbdFrame& frame : frames) {
+      risas::FrameGeometry geometry;
+      std::vector<cv::KeyPoint> keypoints, described;
+      cv::Mat descriptors;
+      geometry_ms += timeMs(repeats, [&] { geometry = risas->computeGeometry(frame); });
+      detector_ms += timeMs(repeats, [&] { risas->detector().detect(frame, geometry, keypoints); });
+      descriptor_ms += timeMs(repeats, [&] {
+        described = keypoints;
+        risas->descriptor().compute(frame, geometry, described, descriptors);
+      });
+      total_ms += timeMs(repeats, [&] { risas->detectAndCompute(frame, cv::Mat(), keypoints, descriptors); });
+      risas_kp += static_cast<double>(keypoints.size());
+      orb_ms += timeMs(repeats, [&] { orb->detectAndCompute(frame.gray(), cv::noArray(), keypoints, descriptors); });
+      orb_kp += static_cast<double>(keypoints.size());
+      sift_ms += timeMs(repeats, [&] { sift->detectAndCompute(frame.gray(), cv::noArray(), keypoints, descriptors); });
+      sift_kp += static_cast<double>(keypoints.size());
+    }
+    const double n = static_cast<double>(frames.size());
+    const double orb_per_frame = orb_ms / n;
+    std::cout << "risas_benchmark: " << frames.size() << " frame(s) " << frames[0].size().width << "x"
+              << frames[0].size().height << " from " << (args.has("data") ? args.get("data") : "the synthetic scene")
+              << ", " << cv::getNumThreads() << " thread(s), median of " << repeats << " runs, OpenCV "
+              << CV_VERSION << "\n\n";
+    std::cout << std::left << std::setw(26) << "stage" << std::right << std::setw(12) << "ms/frame" << std::setw(10)
+              << "x ORB" << std::setw(14) << "keypoints\n";
+    const auto row = [&](const std::string& name, double ms, double keypoints) {
+      std::cout << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(2)
+                << std::setw(12) << ms / n << std::setw(10) << (ms / n) / orb_per_frame;
+      if (keypoints >= 0) std::cout << std::setw(13) << std::setprecision(0) << keypoints / n;
+      std::cout << "\n";
+    };
+    row("RISAS geometry (normals)", geometry_ms, -1);
+    row("RISAS detector", detector_ms, -1);
+    row("RISAS descriptor", descriptor_ms, -1);
+    row("RISAS total", total_ms, risas_kp);
+    row("OpenCV ORB (1000)", orb_ms, orb_kp);
+    row("OpenCV SIFT", sift_ms, sift_kp);
+    return 0;
+  });
+}

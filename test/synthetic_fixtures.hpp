@@ -1,0 +1,90 @@
+// Helpers shared by the unit tests: synthetic frames and ground-truth
+// correspondence between two renders of one scene.
+#pragma once
+
+#include "risas/matcher.hpp"
+#include "risas/risas.hpp"
+#include "risas/synthetic_scene.hpp"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <vector>
+
+namespace risas::test {
+
+inline const cv::Size kVga(640, 480);
+
+inline Eigen::Isometry3d pose(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = t;
+  return T;
+}
+
+inline RgbdFrame renderFrame(const SyntheticScene& scene, const Eigen::Isometry3d& world_T_camera,
+                             SyntheticRender* render_out = nullptr) {
+  SyntheticRender render = scene.render(syntheticIntrinsics(), kVga, world_T_camera);
+  RgbdFrame frame(render.bgr, render.depth_mm, syntheticIntrinsics());
+  if (render_out) *render_out = render;
+  return frame;
+}
+
+// The camera of the invariance tests: looking down at the demo scene.
+inline Eigen::Isometry3d demoCamera(double distance = 1.4) {
+  const Eigen::Vector3d target(0.0, 0.05, 0.15);
+  const Eigen::Vector3d direction = Eigen::Vector3d(0.0, -1.0, 0.75).normalized();
+  return lookAt(target + distance * direction, target);
+}
+
+// The same camera rolled about its optical axis by `degrees`.
+inline Eigen::Isometry3d rolled(const Eigen::Isometry3d& world_T_camera, double degrees) {
+  Eigen::Isometry3d T = world_T_camera;
+  T.linear() = world_T_camera.linear() * Eigen::AngleAxisd(degrees * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+
+inline double angleDeg(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const double c = a.dot(b) / (cv::norm(a) * cv::norm(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+struct CorrespondenceScore {
+  int counterparts = 0;  // keypoints of B re-detected in A at the same 3D point
+  int matched = 0;       // of those, matched to that very keypoint by NNDR
+  double rate() const { return counterparts ? static_cast<double>(matched) / counterparts : 0.0; }
+};
+
+// For every feature of B whose 3D point, moved into A's frame by A_T_B, lies
+// within `tolerance` metres of a feature of A, checks whether NNDR matching of
+// B's descriptors against all of A's picks that feature.
+inline CorrespondenceScore scoreCorrespondences(const Features& a, const Features& b, const Eigen::Isometry3d& A_T_B,
+                                                double ratio = 0.8, double tolerance = 0.01) {
+  MatchParams params;
+  params.ratio = ratio;
+  const std::vector<cv::DMatch> matches = matchDescriptors(b.descriptors, a.descriptors, params);
+  std::vector<int> match_of_b(b.keypoints.size(), -1);
+  for (const cv::DMatch& m : matches) match_of_b[static_cast<size_t>(m.queryIdx)] = m.trainIdx;
+
+  CorrespondenceScore score;
+  for (size_t i = 0; i < b.geometry.size(); ++i) {
+    const cv::Point3f& p = b.geometry[i].point;
+    const Eigen::Vector3d q = A_T_B * Eigen::Vector3d(p.x, p.y, p.z);
+    int nearest = -1;
+    double best = tolerance;
+    for (size_t j = 0; j < a.geometry.size(); ++j) {
+      const cv::Point3f& r = a.geometry[j].point;
+      const double d = (Eigen::Vector3d(r.x, r.y, r.z) - q).norm();
+      if (d < best) {
+        best = d;
+        nearest = static_cast<int>(j);
+      }
+    }
+    if (nearest < 0) continue;
+    ++score.counterparts;
+    score.matched += match_of_b[i] == nearest;
+  }
+  return score;
+}
+
+}  // namespace risas::test

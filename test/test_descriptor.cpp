@@ -1,0 +1,158 @@
+// Descriptor structure: dimensions, normalisation, dropped keypoints, the
+// pieces of paper III-B on hand-checkable input.
+#include "synthetic_fixtures.hpp"
+
+#include "risas/encoding.hpp"
+#include "risas/neighbourhood.hpp"
+#include "risas/orientation.hpp"
+#include "risas/ranking.hpp"
+
+#include <gtest/gtest.h>
+
+namespace risas {
+namespace {
+
+TEST(Scale, Equation3) {
+  EXPECT_FLOAT_EQ(depthScale(0.5f), 1.0f);  // below 2 m: truncated to 1
+  EXPECT_FLOAT_EQ(depthScale(2.0f), 1.0f);
+  EXPECT_FLOAT_EQ(depthScale(5.0f), (3.8f - 2.0f) / 3.0f);
+  EXPECT_FLOAT_EQ(depthScale(8.0f), 0.2f);
+  EXPECT_FLOAT_EQ(depthScale(20.0f), 0.2f);
+}
+
+TEST(Scale, Equation4InitialRadius) {
+  EXPECT_FLOAT_EQ(initialRadius(1.0f, 1.0f, 1.0f), 20.0f);     // the reference's 20 s
+  EXPECT_FLOAT_EQ(initialRadius(0.5f, 0.5f, 1.0f), 22.5f);     // ratio 2 -> 45 s
+  EXPECT_FLOAT_EQ(initialRadius(1.0f, 0.2f, 1.0f), 70.0f);     // ratio capped at 3
+  EXPECT_FLOAT_EQ(initialRadius(1.0f, 0.05f, 1.0f), 70.0f);    // s floored at 0.2
+}
+
+TEST(Ranking, RankGroupsAreEqualSizedAndTiesShareAGroup) {
+  std::vector<uint16_t> values;
+  for (int i = 0; i < 100; ++i) values.push_back(static_cast<uint16_t>(99 - i));
+  std::vector<uint8_t> labels;
+  rankGroups(values, 256, 10, labels);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(labels[static_cast<size_t>(i)], (99 - i) / 10);
+  rankGroups({5, 5, 5, 9}, 256, 4, labels);
+  EXPECT_EQ(labels, (std::vector<uint8_t>{0, 0, 0, 3}));
+  // A strictly monotonic transform of the values leaves every label as it was.
+  std::vector<uint16_t> squared;
+  for (uint16_t v : values) squared.push_back(static_cast<uint16_t>(v * v / 40 + v));
+  std::vector<uint8_t> squared_labels;
+  rankGroups(values, 256, 10, labels);
+  rankGroups(squared, 512, 10, squared_labels);
+  EXPECT_EQ(labels, squared_labels);
+  EXPECT_THROW(rankGroups({300}, 256, 4, labels), cv::Exception);
+}
+
+TEST(Descriptor, DimensionIsNPieTimesNBinTimesNVecPlusOne) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  for (const cv::Vec3i& bins : {cv::Vec3i(8, 8, 2), cv::Vec3i(4, 8, 1), cv::Vec3i(12, 16, 2), cv::Vec3i(3, 5, 4)}) {
+    RisasParams params;
+    params.descriptor.n_pie = bins[0];
+    params.descriptor.n_bin = bins[1];
+    params.descriptor.n_vec = bins[2];
+    const auto risas = Risas::create(params);
+    const Features f = risas->extract(frame);
+    ASSERT_GT(f.keypoints.size(), 100u);
+    EXPECT_EQ(f.descriptors.cols, bins[0] * bins[1] * (bins[2] + 1));
+    EXPECT_EQ(risas->descriptorSize(), f.descriptors.cols);
+    EXPECT_EQ(f.descriptors.type(), CV_32F);
+    EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
+    EXPECT_EQ(f.geometry.size(), f.keypoints.size());
+    for (int r = 0; r < f.descriptors.rows; ++r) EXPECT_NEAR(cv::norm(f.descriptors.row(r)), 1.0, 1e-4);
+  }
+}
+
+TEST(Descriptor, SetsAngleSizeAndGeometryConsistentWithDepth) {
+  SyntheticRender render;
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera(), &render);
+  const Features f = Risas().extract(frame);
+  ASSERT_GT(f.keypoints.size(), 100u);
+  const Intrinsics K = syntheticIntrinsics();
+  for (size_t i = 0; i < f.keypoints.size(); ++i) {
+    const cv::KeyPoint& k = f.keypoints[i];
+    const KeypointGeometry& g = f.geometry[i];
+    EXPECT_GE(k.angle, 0.0f);
+    EXPECT_LT(k.angle, 360.0f);
+    EXPECT_GE(k.size, 2.0f * RisasParams().descriptor.min_radius_px - 1e-3f);
+    EXPECT_NEAR(g.point.z, render.depth_mm.at<uint16_t>(cvRound(k.pt.y), cvRound(k.pt.x)) / 1000.0, 1e-3);
+    const cv::Point2f back = K.project(g.point);
+    EXPECT_LT(cv::norm(back - k.pt), 1.0);
+    EXPECT_NEAR(cv::norm(g.normal), 1.0, 1e-4);
+    EXPECT_LT(g.normal.dot(cv::Vec3f(g.point.x, g.point.y, g.point.z)), 0.0f);
+    EXPECT_GT(g.support_radius, 0.0f);
+  }
+}
+
+TEST(Descriptor, DropsKeypointsItCannotDescribe) {
+  SyntheticRender render;
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera(), &render);
+  const Risas risas;
+  // A keypoint that was described, far enough from the hole cut below.
+  const std::vector<cv::KeyPoint> keypoints = risas.extract(frame).keypoints;
+  const auto good_it = std::find_if(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& k) {
+    return !cv::Rect(200, 100, 240, 240).contains(k.pt);
+  });
+  ASSERT_NE(good_it, keypoints.end());
+  const cv::KeyPoint good = *good_it;
+  // Off the image on either side, and on a pixel whose depth is missing.
+  cv::Mat depth = render.depth_mm.clone();
+  depth(cv::Rect(300, 200, 40, 40)).setTo(0);
+  const RgbdFrame holed(render.bgr, depth, syntheticIntrinsics());
+  std::vector<cv::KeyPoint> mixed = {cv::KeyPoint(-5.0f, 10.0f, 7.0f), good, cv::KeyPoint(700.0f, 10.0f, 7.0f),
+                                     cv::KeyPoint(320.0f, 220.0f, 7.0f)};
+  cv::Mat descriptors;
+  std::vector<KeypointGeometry> info;
+  risas.compute(holed, mixed, descriptors, &info);
+  ASSERT_EQ(mixed.size(), 1u);
+  EXPECT_EQ(mixed[0].pt, good.pt);
+  EXPECT_EQ(descriptors.rows, 1);
+  EXPECT_EQ(info.size(), 1u);
+}
+
+TEST(Descriptor, IsDeterministicAndReentrant) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const auto risas = Risas::create();
+  const Features a = risas->extract(frame);
+  Features b, c;
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+    for (int i = r.start; i < r.end; ++i) (i == 0 ? b : c) = risas->extract(frame);
+  });
+  for (const Features* other : {&b, &c}) {
+    ASSERT_EQ(other->keypoints.size(), a.keypoints.size());
+    EXPECT_EQ(cv::norm(other->descriptors, a.descriptors, cv::NORM_INF), 0.0);
+  }
+}
+
+TEST(Orientation, GammaRuleRejectsShapelessAndPicksTheBranches) {
+  Neighbourhood nb;
+  nb.point = Eigen::Vector3d(0.1, 0.05, 1.0);
+  nb.intensity_centroid = Eigen::Vector2d(1.0, 0.0);
+  const Intrinsics K(500, 500, 320, 240);
+  nb.covariance = Eigen::Vector3d(1.0, 0.95, 0.9).asDiagonal();  // a ball: no distinctive shape
+  EXPECT_EQ(dominantOrientation(nb, K, 0.8, 15.0).source, OrientationSource::Rejected);
+  // A disc in the plane x-z (normal along y): e2 ~ e1, d3D = v1 x v2 = +-y.
+  nb.covariance = Eigen::Vector3d(1.0, 0.0, 0.9).asDiagonal();
+  Orientation o = dominantOrientation(nb, K, 0.8, 15.0);
+  EXPECT_EQ(o.source, OrientationSource::PatchNormal);
+  EXPECT_NEAR(std::abs(std::sin(o.theta)), 1.0, 0.02);  // image v direction
+  // An elongated patch along x: d3D = v1 = x, signed towards the intensity mass.
+  nb.covariance = Eigen::Vector3d(1.0, 0.1, 0.05).asDiagonal();
+  o = dominantOrientation(nb, K, 0.8, 15.0);
+  EXPECT_EQ(o.source, OrientationSource::MajorAxis);
+  EXPECT_NEAR(o.theta, 0.0, 0.05);
+  nb.intensity_centroid = Eigen::Vector2d(-1.0, 0.0);
+  EXPECT_NEAR(std::abs(dominantOrientation(nb, K, 0.8, 15.0).theta), CV_PI, 0.05);
+  // A disc facing the camera: its normal projects to nothing, the intensity
+  // centroid decides.
+  nb.point = Eigen::Vector3d(0.0, 0.0, 1.0);
+  nb.covariance = Eigen::Vector3d(1.0, 0.9, 0.0).asDiagonal();
+  nb.intensity_centroid = Eigen::Vector2d(0.0, 2.0);
+  o = dominantOrientation(nb, K, 0.8, 15.0);
+  EXPECT_EQ(o.source, OrientationSource::IntensityCentroid);
+  EXPECT_NEAR(o.theta, CV_PI / 2, 1e-9);
+}
+
+}  // namespace
+}  // namespace risas

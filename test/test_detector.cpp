@@ -1,0 +1,209 @@
+// The detector fires on texture corners, on the creases of an untextured box
+// (through the dot-product channel alone), and caps and spreads its output.
+#include "synthetic_fixtures.hpp"
+
+#include "risas/detector.hpp"
+#include "risas/main_normal.hpp"
+
+#include "risas/errors.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace risas {
+namespace {
+
+using test::angleDeg;
+
+using test::pose;
+
+double distanceToNearest(const cv::Point2f& p, const std::vector<cv::Point2f>& targets) {
+  double best = 1e9;
+  for (const cv::Point2f& t : targets) best = std::min(best, cv::norm(p - t));
+  return best;
+}
+
+TEST(MainNormal, LabelsFollowThePapersExample) {
+  const float c = static_cast<float>(1.0 / std::sqrt(3.0));
+  // [54.7, 54.7, 54.7] degrees -> sector 2 of 4 (1-based), 1 0-based.
+  EXPECT_EQ(normalLabels(cv::Vec3f(c, c, c), 4), cv::Vec3i(1, 1, 1));
+  EXPECT_EQ(normalLabels(cv::Vec3f(0, 0, -1), 4), cv::Vec3i(2, 2, 3));
+  EXPECT_EQ(normalLabels(cv::Vec3f(1, 0, 0), 4), cv::Vec3i(0, 2, 2));
+}
+
+TEST(MainNormal, IsTheDominantPlanesNormal) {
+  SyntheticScene scene;
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  scene.addPlane(pose({0, 0, 1.5}, tilt), 3.0, 3.0, Material{});
+  scene.addSphere({0.1, 0.0, 1.1}, 0.1, Material{});
+  SyntheticRender truth;
+  const RgbdFrame frame = test::renderFrame(scene, Eigen::Isometry3d::Identity(), &truth);
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  const cv::Vec3f n_main = computeMainNormal(g.normals, 4);
+  EXPECT_LT(angleDeg(n_main, truth.normals.at<cv::Vec3f>(20, 20)), 2.0);
+  EXPECT_NEAR(cv::norm(n_main), 1.0, 1e-5);
+}
+
+TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
+  // Black squares on white on a plane facing the camera at 1 m.
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(230));
+  std::vector<cv::Point2f> corners;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const cv::Rect square(80 + 130 * i, 70 + 130 * j, 60, 60);
+      grey(square).setTo(20);
+      for (const cv::Point& p : {square.tl(), cv::Point(square.br().x - 1, square.y), square.br() - cv::Point(1, 1),
+                                 cv::Point(square.x, square.br().y - 1)}) {
+        corners.emplace_back(p);
+      }
+    }
+  }
+  const RgbdFrame frame(grey, cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)), syntheticIntrinsics());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  std::vector<cv::KeyPoint> keypoints;
+  Detector().detect(frame, g, keypoints);
+
+  ASSERT_FALSE(keypoints.empty());
+  int on_corner = 0;
+  for (const cv::KeyPoint& k : keypoints) on_corner += distanceToNearest(k.pt, corners) <= 3.0;
+  EXPECT_EQ(on_corner, static_cast<int>(keypoints.size())) << "keypoints away from every corner";
+  std::vector<cv::Point2f> found;
+  for (const cv::KeyPoint& k : keypoints) found.push_back(k.pt);
+  int corners_found = 0;
+  for (const cv::Point2f& c : corners) corners_found += distanceToNearest(c, found) <= 3.0;
+  EXPECT_EQ(corners_found, static_cast<int>(corners.size()));
+}
+
+// An untextured box on an untextured floor, unlit: the grey image is one
+// constant, so every keypoint must come from the shape channel.
+struct UntexturedBox {
+  SyntheticScene scene;
+  Eigen::Isometry3d camera;
+  Eigen::Isometry3d box_pose;
+  Eigen::Vector3d half{0.15, 0.1, 0.12};
+
+  UntexturedBox() {
+    const Material plain{false, 0.5, 0.0, 0};
+    scene.addPlane(pose({0, 0, 0}), 5.0, 5.0, plain);
+    box_pose = pose({0, 0, half.z()}, Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+    scene.addBox(box_pose, half, plain);
+    scene.setLighting(false);
+    camera = lookAt({0.2, -0.9, 0.8}, {0, 0, 0.1});
+  }
+
+  // Corner i of the box (bits: +x, +y, +z) in camera coordinates and in pixels.
+  Eigen::Vector3d cameraPoint(int corner) const {
+    const Eigen::Vector3d local(corner & 1 ? half.x() : -half.x(), corner & 2 ? half.y() : -half.y(),
+                                corner & 4 ? half.z() : -half.z());
+    return camera.inverse() * (box_pose * local);
+  }
+  cv::Point2f project(int corner) const {
+    const Eigen::Vector3d p = cameraPoint(corner);
+    return syntheticIntrinsics().project(
+        cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  }
+
+  // Distance in pixels from p to the nearest projected edge of the box.
+  double distanceToEdges(const cv::Point2f& p) const {
+    double best = 1e9;
+    for (int a = 0; a < 8; ++a) {
+      for (int bit : {1, 2, 4}) {
+        if (a & bit) continue;
+        const cv::Point2f s = project(a), e = project(a | bit);
+        const cv::Point2f d = e - s;
+        const float t = std::clamp((p - s).dot(d) / d.dot(d), 0.0f, 1.0f);
+        best = std::min(best, cv::norm(p - (s + t * d)));
+      }
+    }
+    return best;
+  }
+
+  // The box's corners that the camera sees, in pixels.
+  std::vector<cv::Point2f> visibleCorners(const SyntheticRender& render) const {
+    std::vector<cv::Point2f> corners;
+    for (int i = 0; i < 8; ++i) {
+      const double z_mm = cameraPoint(i).z() * 1000.0;
+      const cv::Point2f px = project(i);
+      const int u = cvRound(px.x), v = cvRound(px.y);
+      if (u < 3 || v < 3 || u >= 637 || v >= 477) continue;
+      // Visible when some pixel right around it shows the corner's depth (on a
+      // silhouette the rounded pixel itself may show the floor behind).
+      bool visible = false;
+      for (int dv = -3; dv <= 3; ++dv) {
+        for (int du = -3; du <= 3; ++du) {
+          visible |= std::abs(render.depth_mm.at<uint16_t>(v + dv, u + du) - z_mm) < 15.0;
+        }
+      }
+      if (visible) corners.push_back(px);
+    }
+    return corners;
+  }
+};
+
+TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
+  const UntexturedBox box;
+  SyntheticRender render;
+  const RgbdFrame frame = test::renderFrame(box.scene, box.camera, &render);
+  double min_grey, max_grey;
+  cv::minMaxLoc(frame.gray(), &min_grey, &max_grey);
+  ASSERT_EQ(min_grey, max_grey) << "the grey image must carry no trace of the box";
+
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  std::vector<cv::KeyPoint> keypoints;
+  Detector().detect(frame, g, keypoints);
+  const std::vector<cv::Point2f> corners = box.visibleCorners(render);
+  ASSERT_GE(corners.size(), 5u);
+  std::vector<cv::Point2f> found;
+  for (const cv::KeyPoint& k : keypoints) found.push_back(k.pt);
+  // A shape corner is blurred by the normal window (half-width 5 px) and the
+  // dot-product smoothing (dp_sigma): its response peaks that far inside.
+  // Where the top face meets the floor behind the box both are parallel and
+  // equally bright in P, so not every visible corner is a corner in P.
+  const DetectorParams defaults;
+  const double tolerance = GeometryParams().normal_radius + 2.0 * defaults.dp_sigma + 1.0;
+  int corners_found = 0;
+  for (const cv::Point2f& c : corners) corners_found += distanceToNearest(c, found) <= tolerance;
+  EXPECT_GE(corners_found, 4) << corners.size() << " visible corners";
+  for (const cv::Point2f& k : found) EXPECT_LE(box.distanceToEdges(k), tolerance) << "keypoint off the box's creases";
+
+  // With tau = 1 the detector sees the grey image alone, which is blank.
+  DetectorParams grey_only;
+  grey_only.tau = 1.0;
+  Detector(grey_only).detect(frame, g, keypoints);
+  EXPECT_TRUE(keypoints.empty());
+}
+
+TEST(Detector, CapsTheCountAndSpreadsOverTheGrid) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  DetectorParams params;
+  params.max_keypoints = 60;
+  params.grid_cols = 4;
+  params.grid_rows = 3;
+  std::vector<cv::KeyPoint> keypoints;
+  Detector(params).detect(frame, g, keypoints);
+  ASSERT_EQ(keypoints.size(), 60u);
+  std::set<int> cells;
+  for (const cv::KeyPoint& k : keypoints) {
+    cells.insert(static_cast<int>(k.pt.y * 3 / 480) * 4 + static_cast<int>(k.pt.x * 4 / 640));
+    EXPECT_TRUE(g.hasNormal(cvRound(k.pt.y), cvRound(k.pt.x)));
+    EXPECT_GT(k.response, 0.0f);
+  }
+  EXPECT_GE(cells.size(), 8u);
+}
+
+TEST(Detector, RespectsTheMask) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  cv::Mat mask(frame.size(), CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(0, 0, 320, 480)).setTo(255);
+  std::vector<cv::KeyPoint> keypoints;
+  Detector().detect(frame, g, keypoints, mask);
+  ASSERT_FALSE(keypoints.empty());
+  for (const cv::KeyPoint& k : keypoints) EXPECT_LT(k.pt.x, 320.0f);
+  EXPECT_THROW(Detector().detect(frame, g, keypoints, cv::Mat(10, 10, CV_8UC1)), InputError);
+}
+
+}  // namespace
+}  // namespace risas

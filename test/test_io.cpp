@@ -1,0 +1,136 @@
+// Files: parameters, intrinsics, frames and features round-trip; corrupt or
+// wrong files give InputError (or runtime_error for unreadable parameter files).
+#include "synthetic_fixtures.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/io.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace risas {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TempDir {
+  fs::path path;
+  TempDir() : path(fs::temp_directory_path() / ("risas_test_io_" + std::to_string(::getpid()))) {
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name)) << text;
+    return file(name);
+  }
+};
+
+TEST(ParamsFile, RoundTripsEveryField) {
+  const TempDir dir;
+  RisasParams params;
+  params.detector.tau = 0.65;
+  params.detector.max_keypoints = 321;
+  params.descriptor.n_pie = 12;
+  params.descriptor.gamma = 0.7;
+  params.match.cross_check = true;
+  params.motion.seed = 77;
+  params.save(dir.file("p.yml"));
+  const RisasParams loaded = RisasParams::load(dir.file("p.yml"));
+  EXPECT_DOUBLE_EQ(loaded.detector.tau, 0.65);
+  EXPECT_EQ(loaded.detector.max_keypoints, 321);
+  EXPECT_EQ(loaded.descriptor.n_pie, 12);
+  EXPECT_DOUBLE_EQ(loaded.descriptor.gamma, 0.7);
+  EXPECT_TRUE(loaded.match.cross_check);
+  EXPECT_EQ(loaded.motion.seed, 77u);
+  EXPECT_EQ(loaded.descriptor.n_bin, RisasParams().descriptor.n_bin);
+}
+
+TEST(ParamsFile, PartialFileKeepsDefaultsAndBadFilesAreErrors) {
+  const TempDir dir;
+  const RisasParams partial = RisasParams::load(dir.write("partial.yml", "%YAML:1.0\ndescriptor:\n  n_bin: 16\n"));
+  EXPECT_EQ(partial.descriptor.n_bin, 16);
+  EXPECT_DOUBLE_EQ(partial.detector.tau, 0.8);
+  EXPECT_THROW(RisasParams::load(dir.write("range.yml", "%YAML:1.0\ndetector:\n  tau: 2.0\n")), std::invalid_argument);
+  EXPECT_THROW(RisasParams::load(dir.write("text.yml", "%YAML:1.0\ndetector:\n  tau: high\n")), std::invalid_argument);
+  EXPECT_THROW(RisasParams::load(dir.write("corrupt.yml", "%YAML:1.0\ndetector: [1, {\n")), std::runtime_error);
+  EXPECT_THROW(RisasParams::load(dir.file("missing.yml")), std::runtime_error);
+}
+
+// The shipped config/risas.yaml is the library's defaults, field for field.
+TEST(ParamsFile, ShippedConfigEqualsTheDefaults) {
+  const auto text = [](const RisasParams& p) {
+    cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    p.write(fs);
+    return fs.releaseAndGetString();
+  };
+  EXPECT_EQ(text(RisasParams::load(RISAS_SOURCE_DIR "/config/risas.yaml")), text(RisasParams()));
+}
+
+TEST(IntrinsicsFile, ReadsTheDatasetFormatAndRejectsOthers) {
+  const TempDir dir;
+  const Intrinsics K = readIntrinsicsFile(
+      dir.write("K.txt", "585.67  0       382.76\n0       606.56  223.09\n0       0       1\n"));
+  EXPECT_DOUBLE_EQ(K.fx, 585.67);
+  EXPECT_DOUBLE_EQ(K.fy, 606.56);
+  EXPECT_DOUBLE_EQ(K.cx, 382.76);
+  EXPECT_DOUBLE_EQ(K.cy, 223.09);
+  EXPECT_THROW(readIntrinsicsFile(dir.write("short.txt", "585 0 382 0 606 223 0 0")), InputError);
+  EXPECT_THROW(readIntrinsicsFile(dir.write("word.txt", "585 0 382 0 606 223 0 0 one")), InputError);
+  EXPECT_THROW(readIntrinsicsFile(dir.write("zero.txt", "0 0 382 0 606 223 0 0 1")), InputError);
+  EXPECT_THROW(readIntrinsicsFile(dir.file("missing.txt")), InputError);
+}
+
+TEST(FrameFiles, LoadsPngPairsAndRejectsWrongDepthFiles) {
+  const TempDir dir;
+  const SyntheticRender r = SyntheticScene::demo().render(syntheticIntrinsics(), test::kVga, test::demoCamera());
+  cv::imwrite(dir.file("rgb.png"), r.bgr);
+  cv::imwrite(dir.file("depth.png"), r.depth_mm);
+  cv::imwrite(dir.file("depth8.png"), r.bgr);
+  dir.write("broken.png", "not a png");
+  const RgbdFrame frame = loadRgbdFrame(dir.file("rgb.png"), dir.file("depth.png"), syntheticIntrinsics());
+  EXPECT_EQ(frame.size(), test::kVga);
+  EXPECT_THROW(loadRgbdFrame(dir.file("rgb.png"), dir.file("depth8.png"), syntheticIntrinsics()), InputError);
+  EXPECT_THROW(loadRgbdFrame(dir.file("broken.png"), dir.file("depth.png"), syntheticIntrinsics()), InputError);
+  EXPECT_THROW(loadRgbdFrame(dir.file("none.png"), dir.file("depth.png"), syntheticIntrinsics()), InputError);
+}
+
+TEST(FeaturesFile, RoundTripsInYamlAndJson) {
+  const TempDir dir;
+  const Features f = Risas().extract(test::renderFrame(SyntheticScene::demo(), test::demoCamera()));
+  ASSERT_GT(f.keypoints.size(), 50u);
+  for (const char* name : {"f.yml", "f.json", "f.xml.gz"}) {
+    writeFeatures(dir.file(name), f);
+    const Features g = readFeatures(dir.file(name));
+    ASSERT_EQ(g.keypoints.size(), f.keypoints.size()) << name;
+    EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_INF), 0.0) << name;
+    ASSERT_EQ(g.geometry.size(), f.geometry.size());
+    for (size_t i = 0; i < f.keypoints.size(); ++i) {
+      EXPECT_EQ(g.keypoints[i].pt, f.keypoints[i].pt);
+      EXPECT_FLOAT_EQ(g.keypoints[i].angle, f.keypoints[i].angle);
+      EXPECT_FLOAT_EQ(g.keypoints[i].size, f.keypoints[i].size);
+      EXPECT_EQ(g.geometry[i].point, f.geometry[i].point);
+      EXPECT_EQ(g.geometry[i].normal, f.geometry[i].normal);
+      EXPECT_FLOAT_EQ(g.geometry[i].support_radius, f.geometry[i].support_radius);
+    }
+  }
+}
+
+TEST(FeaturesFile, CorruptOrForeignFilesAreErrors) {
+  const TempDir dir;
+  EXPECT_THROW(readFeatures(dir.write("garbage.yml", "%YAML:1.0\nkeypoints: [1, 2\n")), InputError);
+  EXPECT_THROW(readFeatures(dir.write("other.yml", "%YAML:1.0\nsomething: 3\n")), InputError);
+  EXPECT_THROW(readFeatures(dir.file("missing.yml")), InputError);
+  Features inconsistent;
+  inconsistent.keypoints.resize(2);
+  inconsistent.descriptors = cv::Mat(1, 192, CV_32F);
+  EXPECT_THROW(writeFeatures(dir.file("x.yml"), inconsistent), InputError);
+  EXPECT_THROW(writeFeatures("/nonexistent-dir/x.yml", Features{}), InputError);
+}
+
+}  // namespace
+}  // namespace risas

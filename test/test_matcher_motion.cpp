@@ -1,0 +1,127 @@
+// NNDR matching on hand-made descriptors and RANSAC on known motions.
+#include "risas/errors.hpp"
+#include "risas/matcher.hpp"
+#include "risas/motion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace risas {
+namespace {
+
+cv::Mat rows(std::initializer_list<std::initializer_list<float>> values) {
+  cv::Mat m(0, static_cast<int>(values.begin()->size()), CV_32F);
+  for (const auto& row : values) m.push_back(cv::Mat(std::vector<float>(row)).reshape(1, 1));
+  return m;
+}
+
+TEST(Matcher, NearestNeighbourWithDistanceRatio) {
+  const cv::Mat train = rows({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  const cv::Mat query = rows({{0.9f, 0.1f, 0}, {0, 0.05f, 1}, {0.5f, 0.5f, 0}});
+  const auto matches = matchDescriptors(query, train);
+  ASSERT_EQ(matches.size(), 2u);  // the third is equidistant to two train rows
+  EXPECT_EQ(matches[0].queryIdx, 0);
+  EXPECT_EQ(matches[0].trainIdx, 0);
+  EXPECT_NEAR(matches[0].distance, std::sqrt(0.01f + 0.01f), 1e-6);
+  EXPECT_EQ(matches[1].queryIdx, 1);
+  EXPECT_EQ(matches[1].trainIdx, 2);
+  // A looser ratio lets nothing more through here, a strict one less.
+  MatchParams strict;
+  strict.ratio = 0.1;
+  EXPECT_EQ(matchDescriptors(query, train, strict).size(), 1u);
+}
+
+TEST(Matcher, CrossCheckKeepsOnlyMutualNearestNeighbours) {
+  const cv::Mat train = rows({{1, 0}, {0, 1}});
+  const cv::Mat query = rows({{1, 0.05f}, {1, 0.1f}});  // both nearest to train 0; train 0's nearest is query 0
+  MatchParams params;
+  params.ratio = 1.0;
+  EXPECT_EQ(matchDescriptors(query, train, params).size(), 2u);
+  params.cross_check = true;
+  const auto matches = matchDescriptors(query, train, params);
+  ASSERT_EQ(matches.size(), 1u);
+  EXPECT_EQ(matches[0].queryIdx, 0);
+}
+
+TEST(Matcher, EdgeCases) {
+  EXPECT_TRUE(matchDescriptors(cv::Mat(), rows({{1, 0}})).empty());
+  EXPECT_TRUE(matchDescriptors(rows({{1, 0}}), cv::Mat()).empty());
+  EXPECT_EQ(matchDescriptors(rows({{1, 0}}), rows({{0, 1}})).size(), 1u);  // no second neighbour
+  EXPECT_THROW(matchDescriptors(rows({{1, 0}}), rows({{1, 0, 0}})), InputError);
+  EXPECT_THROW(matchDescriptors(cv::Mat(1, 2, CV_8U), cv::Mat(1, 2, CV_8U)), InputError);
+}
+
+struct MotionCase {
+  std::vector<cv::Point3f> query, train;
+  std::vector<cv::DMatch> matches;
+  std::vector<char> truly_inlier;
+  Eigen::Isometry3d truth;
+};
+
+MotionCase makeCase(int n, double outlier_share, double noise, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, noise);
+  MotionCase c;
+  c.truth = Eigen::Isometry3d::Identity();
+  c.truth.linear() = Eigen::AngleAxisd(0.35, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
+  c.truth.translation() = Eigen::Vector3d(0.3, -0.05, 0.12);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), 1.5 + u(rng));
+    Eigen::Vector3d q = c.truth * p + Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    const bool outlier = i < outlier_share * n;
+    if (outlier) q = Eigen::Vector3d(u(rng), u(rng), 1.5 + u(rng));
+    c.query.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    c.train.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+    c.matches.emplace_back(i, i, 0.0f);
+    c.truly_inlier.push_back(!outlier);
+  }
+  return c;
+}
+
+double rotationErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+TEST(Motion, RecoversAKnownMotionDespiteOutliers) {
+  const MotionCase c = makeCase(200, 0.4, 0.0, 1);
+  const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches);
+  ASSERT_TRUE(m.valid);
+  EXPECT_LT(rotationErrorDeg(m.train_T_query, c.truth), 1e-4);
+  EXPECT_LT((m.train_T_query.translation() - c.truth.translation()).norm(), 1e-5);
+  EXPECT_EQ(m.num_inliers, 120);
+  EXPECT_EQ(m.inliers, c.truly_inlier);
+}
+
+TEST(Motion, ToleratesSensorNoise) {
+  const MotionCase c = makeCase(150, 0.3, 0.004, 2);
+  const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches);
+  ASSERT_TRUE(m.valid);
+  EXPECT_LT(rotationErrorDeg(m.train_T_query, c.truth), 0.5);
+  EXPECT_LT((m.train_T_query.translation() - c.truth.translation()).norm(), 0.005);
+  EXPECT_GT(m.num_inliers, 95);
+  EXPECT_LT(m.rmse, 0.012);
+}
+
+TEST(Motion, IsDeterministicForASeed) {
+  const MotionCase c = makeCase(100, 0.5, 0.003, 3);
+  const MotionEstimate a = estimateRigidMotion(c.query, c.train, c.matches);
+  const MotionEstimate b = estimateRigidMotion(c.query, c.train, c.matches);
+  EXPECT_TRUE(a.train_T_query.isApprox(b.train_T_query, 0.0));
+  EXPECT_EQ(a.inliers, b.inliers);
+}
+
+TEST(Motion, TooFewOrInconsistentMatchesGiveNoMotion) {
+  MotionCase c = makeCase(5, 0.0, 0.0, 4);
+  EXPECT_FALSE(estimateRigidMotion(c.query, c.train, c.matches).valid);  // fewer than min_inliers
+  c = makeCase(60, 1.0, 0.0, 5);  // all random
+  const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches);
+  EXPECT_FALSE(m.valid);
+  EXPECT_EQ(m.inliers.size(), 60u);
+  c.matches.emplace_back(0, 99, 0.0f);
+  EXPECT_THROW(estimateRigidMotion(c.query, c.train, c.matches), InputError);
+}
+
+}  // namespace
+}  // namespace risas
