@@ -14,8 +14,14 @@ RISAS_CMAKE_ARGS=(-DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr
 # package) and sources its devel space.
 risas_build() {
   mkdir -p "$RISAS_WS/src"
-  ln -sfn "$RISAS_ROOT" "$RISAS_WS/src/risas"
-  catkin_make -C "$RISAS_WS" "${RISAS_CMAKE_ARGS[@]}" -j"$(nproc)" "$@"
+  local force=()
+  # Another clone built here last: its configure may be newer than this
+  # clone's files, so make alone would not notice the change of source.
+  if [ "$(readlink "$RISAS_WS/src/risas" 2>/dev/null)" != "$RISAS_ROOT" ]; then
+    ln -sfn "$RISAS_ROOT" "$RISAS_WS/src/risas"
+    force=(--force-cmake)
+  fi
+  catkin_make -C "$RISAS_WS" "${RISAS_CMAKE_ARGS[@]}" "${force[@]}" -j"$(nproc)" "$@"
   # shellcheck disable=SC1091
   set +u; source "$RISAS_WS/devel/setup.bash"; set -u
   RISAS_BIN="$RISAS_WS/devel/lib/risas"

@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """Counts the test cases in catkin's JUnit XML results and prints one closing
-line, 'N passed, N failed', exiting 1 when any failed, errored or no test ran."""
+line, 'N passed, N failed', exiting 1 when any failed, errored or no test ran.
+A rostest leaves two files: rosunit-*.xml with the test node's own cases and a
+rostest-*.xml wrapper, read for failures only (a node that never started
+shows there alone), so that passes are not counted twice."""
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -13,10 +16,13 @@ for xml in sorted(Path(sys.argv[1]).rglob("*.xml")):
         print(f"{xml}: unreadable result file ({e})")
         failed += 1
         continue
+    wrapper = xml.name.startswith("rostest-")
     for case in root.iter("testcase"):
         if case.find("failure") is not None or case.find("error") is not None:
             failed += 1
             print(f"FAILED: {case.get('classname')}.{case.get('name')}")
+        elif wrapper:
+            continue
         elif case.find("skipped") is not None or case.get("status") == "notrun":
             skipped += 1
         else:

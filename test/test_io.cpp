@@ -85,6 +85,24 @@ TEST(IntrinsicsFile, ReadsTheDatasetFormatAndRejectsOthers) {
   EXPECT_THROW(readIntrinsicsFile(dir.file("missing.txt")), InputError);
 }
 
+TEST(SequenceFiles, ListsFramesUpToTheFirstGapAndFindsIntrinsicsAbove) {
+  const TempDir dir;
+  fs::create_directories(dir.path / "seq");
+  for (int k : {1, 2, 3, 5}) {
+    dir.write("seq/rgb_" + std::to_string(k) + ".png", "x");
+    dir.write("seq/depth_" + std::to_string(k) + ".png", "x");
+  }
+  dir.write("seq/rgb_4.png", "x");  // no depth_4: the sequence ends at 3
+  const auto frames = listSequence(dir.file("seq"));
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[2].index, 3);
+  EXPECT_EQ(frames[2].depth_path, dir.file("seq/depth_3.png"));
+  EXPECT_TRUE(listSequence(dir.file("nothing-here")).empty());
+  EXPECT_THROW(findIntrinsics(dir.file("seq")), InputError);
+  dir.write("camera-intrinsics.txt", "500 0 320 0 510 240 0 0 1");
+  EXPECT_DOUBLE_EQ(findIntrinsics(dir.file("seq")).fy, 510.0);
+}
+
 TEST(FrameFiles, LoadsPngPairsAndRejectsWrongDepthFiles) {
   const TempDir dir;
   const SyntheticRender r = SyntheticScene::demo().render(syntheticIntrinsics(), test::kVga, test::demoCamera());

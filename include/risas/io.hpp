@@ -7,6 +7,7 @@
 #include "risas/rgbd_frame.hpp"
 
 #include <string>
+#include <vector>
 
 namespace risas {
 
@@ -14,7 +15,28 @@ namespace risas {
 // ManipulatorsDataset's camera-intrinsics.txt).
 Intrinsics readIntrinsicsFile(const std::string& path);
 
-// Colour (8-bit, read as BGR) and 16-bit millimetre depth images.
+// The frames of a sequence in the ManipulatorsDataset layout: rgb_k.png and
+// depth_k.png for k = 1, 2, ... up to the first gap.
+struct SequenceFrame {
+  int index;
+  std::string rgb_path;
+  std::string depth_path;
+};
+std::vector<SequenceFrame> listSequence(const std::string& dir);
+
+// camera-intrinsics.txt in `dir` or the nearest folder above it (the dataset
+// keeps one at its root); InputError when there is none.
+Intrinsics findIntrinsics(const std::string& dir);
+
+// Colour (8-bit, read as BGR) and 16-bit millimetre depth images, as read:
+// InputError when a file is unreadable or the depth is not 16-bit.
+struct RgbdImages {
+  cv::Mat bgr;
+  cv::Mat depth_mm;
+};
+RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path);
+
+// The same, validated into a frame.
 RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics);
 
 // Nodes: descriptor_type ("RISAS"), keypoints (cv::write of the

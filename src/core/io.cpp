@@ -4,6 +4,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -31,16 +32,43 @@ Intrinsics readIntrinsicsFile(const std::string& path) {
   }
 }
 
-RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics) {
-  const cv::Mat color = cv::imread(color_path, cv::IMREAD_COLOR);
-  if (color.empty()) throw InputError("cannot read colour image " + color_path);
-  const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH);
-  if (depth.empty()) throw InputError("cannot read depth image " + depth_path);
-  if (depth.type() != CV_16UC1) {
-    throw InputError("depth image " + depth_path + " must be 16-bit millimetres, got " + cv::typeToString(depth.type()));
+std::vector<SequenceFrame> listSequence(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<SequenceFrame> frames;
+  for (int k = 1;; ++k) {
+    const fs::path rgb = fs::path(dir) / ("rgb_" + std::to_string(k) + ".png");
+    const fs::path depth = fs::path(dir) / ("depth_" + std::to_string(k) + ".png");
+    if (!fs::exists(rgb) || !fs::exists(depth)) break;
+    frames.push_back({k, rgb.string(), depth.string()});
   }
+  return frames;
+}
+
+Intrinsics findIntrinsics(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (fs::path p = fs::absolute(dir, ec); !p.empty(); p = p.parent_path()) {
+    if (fs::exists(p / "camera-intrinsics.txt")) return readIntrinsicsFile((p / "camera-intrinsics.txt").string());
+    if (p == p.parent_path()) break;
+  }
+  throw InputError("no camera-intrinsics.txt in " + dir + " or any folder above it");
+}
+
+RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path) {
+  RgbdImages images{cv::imread(color_path, cv::IMREAD_COLOR), cv::imread(depth_path, cv::IMREAD_ANYDEPTH)};
+  if (images.bgr.empty()) throw InputError("cannot read colour image " + color_path);
+  if (images.depth_mm.empty()) throw InputError("cannot read depth image " + depth_path);
+  if (images.depth_mm.type() != CV_16UC1) {
+    throw InputError("depth image " + depth_path + " must be 16-bit millimetres, got " +
+                     cv::typeToString(images.depth_mm.type()));
+  }
+  return images;
+}
+
+RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics) {
+  const RgbdImages images = readRgbdImages(color_path, depth_path);
   try {
-    return RgbdFrame(color, depth, intrinsics);
+    return RgbdFrame(images.bgr, images.depth_mm, intrinsics);
   } catch (const InputError& e) {
     throw InputError(color_path + " + " + depth_path + ": " + e.what());
   }

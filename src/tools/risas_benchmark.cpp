@@ -11,34 +11,20 @@
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <functional>
 #include <iomanip>
 #include <iostream>
 
-namespace fs = std::filesystem;
-
 namespace {
 
-std::vector<risas::RgbdFrame> loadSequence(const fs::path& dir, int max_frames) {
-  fs::path intrinsics;
-  for (fs::path p = fs::absolute(dir); !p.empty(); p = p.parent_path()) {
-    if (fs::exists(p / "camera-intrinsics.txt")) {
-      intrinsics = p / "camera-intrinsics.txt";
-      break;
-    }
-    if (p == p.parent_path()) break;
-  }
-  if (intrinsics.empty()) throw risas::InputError("no camera-intrinsics.txt in " + dir.string() + " or above it");
-  const risas::Intrinsics K = risas::readIntrinsicsFile(intrinsics.string());
+std::vector<risas::RgbdFrame> loadSequence(const std::string& dir, int max_frames) {
+  const risas::Intrinsics K = risas::findIntrinsics(dir);
   std::vector<risas::RgbdFrame> frames;
-  for (int k = 1; static_cast<int>(frames.size()) < max_frames; ++k) {
-    const fs::path rgb = dir / ("rgb_" + std::to_string(k) + ".png");
-    const fs::path depth = dir / ("depth_" + std::to_string(k) + ".png");
-    if (!fs::exists(rgb) || !fs::exists(depth)) break;
-    frames.push_back(risas::loadRgbdFrame(rgb.string(), depth.string(), K));
+  for (const risas::SequenceFrame& f : risas::listSequence(dir)) {
+    if (static_cast<int>(frames.size()) == max_frames) break;
+    frames.push_back(risas::loadRgbdFrame(f.rgb_path, f.depth_path, K));
   }
-  if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir.string());
+  if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir);
   return frames;
 }
 

@@ -1,0 +1,168 @@
+#include "risas/ros/conversions.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/params_fields.hpp"
+
+#include <cv_bridge/cv_bridge.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <algorithm>
+#include <type_traits>
+
+namespace risas_ros {
+
+using risas::ColorOrder;
+using risas::InputError;
+using risas::KeypointGeometry;
+using risas::Keypoint;
+namespace enc = sensor_msgs::image_encodings;
+
+Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
+  if (std::all_of(info.K.begin(), info.K.end(), [](double k) { return k == 0.0; })) {
+    throw InputError("camera_info has an all-zero K: the camera is not calibrated");
+  }
+  return Intrinsics::fromMatrix(cv::Matx33d(info.K.data()));
+}
+
+sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, cv::Size size) {
+  sensor_msgs::CameraInfo info;
+  info.width = static_cast<uint32_t>(size.width);
+  info.height = static_cast<uint32_t>(size.height);
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {K.fx, 0.0, K.cx, 0.0, K.fy, K.cy, 0.0, 0.0, 1.0};
+  info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  info.P = {K.fx, 0.0, K.cx, 0.0, 0.0, K.fy, K.cy, 0.0, 0.0, 0.0, 1.0, 0.0};
+  return info;
+}
+
+namespace {
+
+// A message whose buffer is shorter than step x height (or whose step is
+// shorter than a row) would be read past its end.
+void checkBuffer(const sensor_msgs::Image& image, const char* what) {
+  const size_t row = static_cast<size_t>(image.width) * enc::numChannels(image.encoding) * (enc::bitDepth(image.encoding) / 8);
+  if (image.step < row || image.data.size() < static_cast<size_t>(image.step) * image.height) {
+    throw InputError(std::string(what) + " image message is malformed: " + std::to_string(image.data.size()) +
+                     " bytes for " + std::to_string(image.height) + " rows of step " + std::to_string(image.step) +
+                     " (a row needs " + std::to_string(row) + ")");
+  }
+}
+
+}  // namespace
+
+RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
+                            const sensor_msgs::CameraInfo& info) {
+  static const std::vector<std::string> colour_encodings = {enc::RGB8, enc::BGR8, enc::RGBA8, enc::BGRA8, enc::MONO8};
+  if (std::find(colour_encodings.begin(), colour_encodings.end(), color.encoding) == colour_encodings.end()) {
+    throw InputError("colour image encoding '" + color.encoding + "' is not rgb8, bgr8, rgba8, bgra8 or mono8");
+  }
+  if (depth.encoding != enc::TYPE_16UC1 && depth.encoding != enc::TYPE_32FC1) {
+    throw InputError("depth image encoding '" + depth.encoding + "' is not 16UC1 (millimetres) or 32FC1 (metres)");
+  }
+  if (color.header.frame_id != depth.header.frame_id) {
+    throw InputError("depth frame_id '" + depth.header.frame_id + "' differs from colour frame_id '" +
+                     color.header.frame_id + "': subscribe to depth registered to the colour camera");
+  }
+  if (info.width != color.width || info.height != color.height) {
+    throw InputError("camera_info is for " + std::to_string(info.width) + "x" + std::to_string(info.height) +
+                     " but the colour image is " + std::to_string(color.width) + "x" + std::to_string(color.height));
+  }
+  checkBuffer(color, "colour");
+  checkBuffer(depth, "depth");
+  const bool rgb_order = color.encoding == enc::RGB8 || color.encoding == enc::RGBA8;
+  try {
+    // toCvShare needs a shared pointer; aliasing ones that own nothing keep
+    // the caller's messages where they are (no copy of the pixels).
+    const sensor_msgs::ImageConstPtr color_ptr(boost::shared_ptr<void>(), &color);
+    const sensor_msgs::ImageConstPtr depth_ptr(boost::shared_ptr<void>(), &depth);
+    const cv::Mat color_mat = cv_bridge::toCvShare(color_ptr)->image;
+    const cv::Mat depth_mat = cv_bridge::toCvShare(depth_ptr)->image;
+    return RgbdFrame(color_mat, depth_mat, intrinsicsFromCameraInfo(info), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
+  } catch (const cv_bridge::Exception& e) {
+    throw InputError(std::string("image message is malformed: ") + e.what());
+  }
+}
+
+KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& header,
+                           const sensor_msgs::CameraInfo& info) {
+  auto message = boost::make_shared<KeypointArray>();
+  message->header = header;
+  message->camera_info = info;
+  message->descriptor_type = "RISAS";
+  message->descriptor_dim = static_cast<uint32_t>(features.descriptors.cols);
+  message->keypoints.resize(features.keypoints.size());
+  for (size_t i = 0; i < features.keypoints.size(); ++i) {
+    const cv::KeyPoint& k = features.keypoints[i];
+    Keypoint& m = message->keypoints[i];
+    m.x = k.pt.x;
+    m.y = k.pt.y;
+    m.size = k.size;
+    m.angle = k.angle;
+    m.response = k.response;
+    m.octave = k.octave;
+    m.class_id = k.class_id;
+    if (i < features.geometry.size()) {
+      const KeypointGeometry& g = features.geometry[i];
+      m.point.x = g.point.x;
+      m.point.y = g.point.y;
+      m.point.z = g.point.z;
+      m.normal = {g.normal[0], g.normal[1], g.normal[2]};
+      m.support_radius = g.support_radius;
+    }
+  }
+  const cv::Mat rows = features.descriptors.isContinuous() ? features.descriptors : features.descriptors.clone();
+  message->descriptors.assign(rows.ptr<float>(), rows.ptr<float>() + rows.total());
+  return message;
+}
+
+Features fromMessage(const KeypointArray& message) {
+  const size_t n = message.keypoints.size();
+  if (message.descriptors.size() != n * message.descriptor_dim) {
+    throw InputError("KeypointArray holds " + std::to_string(message.descriptors.size()) + " descriptor values, not " +
+                     std::to_string(n) + " x " + std::to_string(message.descriptor_dim));
+  }
+  Features features;
+  for (const Keypoint& m : message.keypoints) {
+    features.keypoints.emplace_back(cv::Point2f(m.x, m.y), m.size, m.angle, m.response, m.octave, m.class_id);
+    features.geometry.push_back({cv::Point3f(m.point.x, m.point.y, m.point.z),
+                                 cv::Vec3f(m.normal[0], m.normal[1], m.normal[2]), m.support_radius});
+  }
+  features.descriptors = cv::Mat(static_cast<int>(n), static_cast<int>(message.descriptor_dim), CV_32F,
+                                 const_cast<float*>(message.descriptors.data()))
+                             .clone();
+  return features;
+}
+
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
+  geometry_msgs::Transform t;
+  t.translation.x = T.translation().x();
+  t.translation.y = T.translation().y();
+  t.translation.z = T.translation().z();
+  const Eigen::Quaterniond q(T.linear());
+  t.rotation.x = q.x();
+  t.rotation.y = q.y();
+  t.rotation.z = q.z();
+  t.rotation.w = q.w();
+  return t;
+}
+
+RisasParams paramsFromServer(const ros::NodeHandle& nh) {
+  RisasParams params;
+  visitSections(params, [&nh](const char* section, auto& fields) {
+    visitFields(fields, [&](const char* name, auto& value, auto...) {
+      const std::string key = std::string(section) + "/" + name;
+      using T = std::decay_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, double> || std::is_same_v<T, bool>) {
+        nh.getParam(key, value);
+      } else {  // int and unsigned: the parameter server holds ints
+        int v = static_cast<int>(value);
+        if (nh.getParam(key, v)) value = static_cast<T>(v);
+      }
+    });
+  });
+  params.validate();
+  return params;
+}
+
+}  // namespace risas_ros

@@ -1,0 +1,252 @@
+// risas/RisasNodelet: a thin ROS shell over the core library. It synchronises
+// registered colour, depth and camera_info, runs RISAS on each frame, matches
+// the frame to the previous one, and publishes
+//   ~keypoints  risas/KeypointArray (features, 3D points, descriptors)
+//   ~image      bgr8 overlay: previous frame left, current right, RANSAC
+//               inliers green, outliers red
+//   ~motion     geometry_msgs/TransformStamped: the current camera frame in
+//               the previous one (p_previous = T p_current), child_frame_id
+//               the camera frame, frame_id the camera frame + "_previous"
+// It subscribes only while someone listens (unless ~always_subscribe).
+#include "risas/errors.hpp"
+#include "risas/matcher.hpp"
+#include "risas/motion.hpp"
+#include "risas/overlay.hpp"
+#include "risas/risas.hpp"
+#include "risas/ros/conversions.hpp"
+#include "risas/ros/log_throttle.hpp"
+#include "risas/ros/reconfigure.hpp"
+
+#include <risas/KeypointArray.h>
+#include <risas/RisasConfig.h>
+
+#include <cv_bridge/cv_bridge.h>
+#include <dynamic_reconfigure/server.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <sensor_msgs/image_encodings.h>
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+namespace risas_ros {
+
+using risas::InputError;
+using risas::MotionEstimate;
+using risas::Risas;
+using risas::RisasConfig;
+
+namespace {
+
+using sensor_msgs::CameraInfo;
+using sensor_msgs::CameraInfoConstPtr;
+using sensor_msgs::Image;
+using sensor_msgs::ImageConstPtr;
+using ApproximatePolicy = message_filters::sync_policies::ApproximateTime<Image, Image, CameraInfo>;
+using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Image, CameraInfo>;
+
+}  // namespace
+
+class RisasNodelet : public nodelet::Nodelet {
+ public:
+  RisasNodelet() = default;
+
+ private:
+  // What the next frame needs of the last one.
+  struct PreviousFrame {
+    cv::Mat gray;
+    Features features;
+  };
+
+  // One consistent set of parameters and the extractor built from them;
+  // replaced whole on reconfiguration, so a frame never sees half a change.
+  struct Setup {
+    RisasParams params;
+    Risas risas;
+    explicit Setup(const RisasParams& p) : params(p), risas(p) {}
+  };
+
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    queue_size_ = pnh.param("queue_size", 5);
+    always_subscribe_ = pnh.param("always_subscribe", false);
+    const bool approximate = pnh.param("approximate_sync", true);
+    try {
+      setup_ = std::make_shared<const Setup>(paramsFromServer(pnh));
+    } catch (const std::invalid_argument& e) {
+      NODELET_FATAL("invalid RISAS parameter: %s", e.what());
+      throw;
+    }
+
+    rgb_it_ = std::make_unique<image_transport::ImageTransport>(nh);
+    if (approximate) {
+      approximate_sync_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(
+          ApproximatePolicy(queue_size_), sub_rgb_, sub_depth_, sub_info_);
+      approximate_sync_->registerCallback(&RisasNodelet::onFrame, this);
+    } else {
+      exact_sync_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(ExactPolicy(queue_size_), sub_rgb_,
+                                                                                sub_depth_, sub_info_);
+      exact_sync_->registerCallback(&RisasNodelet::onFrame, this);
+    }
+
+    {
+      // Publishers fire connectCb while being advertised: hold it back until all exist.
+      std::lock_guard<std::mutex> lock(connect_mutex_);
+      const auto connect = [this](const auto&) { connectCb(); };
+      pub_keypoints_ = pnh.advertise<KeypointArray>("keypoints", 5, connect, connect);
+      pub_motion_ = pnh.advertise<geometry_msgs::TransformStamped>("motion", 5, connect, connect);
+      image_transport::ImageTransport private_it(pnh);
+      pub_image_ = private_it.advertise("image", 1, connect, connect);
+    }
+
+    // Seed the server with the parameter server's values so the .cfg
+    // defaults never overwrite them, then listen for changes.
+    reconfigure_ = std::make_unique<dynamic_reconfigure::Server<RisasConfig>>(reconfigure_mutex_, pnh);
+    reconfigure_->updateConfig(toConfig(setup_->params));
+    reconfigure_->setCallback([this](RisasConfig& c, uint32_t) { reconfigure(c); });
+
+    watchdog_ = pnh.createWallTimer(ros::WallDuration(5.0), [this](const ros::WallTimerEvent&) { watchdog(); });
+    connectCb();
+  }
+
+  void connectCb() {
+    std::lock_guard<std::mutex> lock(connect_mutex_);
+    const bool wanted = always_subscribe_ || pub_keypoints_.getNumSubscribers() > 0 ||
+                        pub_motion_.getNumSubscribers() > 0 || pub_image_.getNumSubscribers() > 0;
+    if (wanted == subscribed_) return;
+    if (wanted) {
+      const image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
+      sub_rgb_.subscribe(*rgb_it_, "rgb/image_rect_color", queue_size_, hints);
+      // Depth always raw: lossy transports would corrupt it.
+      sub_depth_.subscribe(*rgb_it_, "depth_registered/image_raw", queue_size_, image_transport::TransportHints("raw"));
+      sub_info_.subscribe(getNodeHandle(), "rgb/camera_info", queue_size_);
+      last_frame_ = ros::WallTime::now();
+      NODELET_DEBUG("subscribed to %s, %s, %s", sub_rgb_.getTopic().c_str(), sub_depth_.getTopic().c_str(),
+                    sub_info_.getTopic().c_str());
+    } else {
+      sub_rgb_.unsubscribe();
+      sub_depth_.unsubscribe();
+      sub_info_.unsubscribe();
+      std::lock_guard<std::mutex> frame_lock(frame_mutex_);
+      previous_.reset();
+    }
+    subscribed_ = wanted;
+  }
+
+  void reconfigure(RisasConfig& config) {
+    const RisasParams params = applyConfig(config, current()->params);
+    try {
+      auto setup = std::make_shared<const Setup>(params);
+      std::lock_guard<std::mutex> lock(setup_mutex_);
+      setup_ = std::move(setup);
+      NODELET_INFO("reconfigured: tau %.2f, gamma %.2f, n_pie %d, n_bin %d, n_vec %d (descriptor_dim %d)",
+                   params.detector.tau, params.descriptor.gamma, params.descriptor.n_pie, params.descriptor.n_bin,
+                   params.descriptor.n_vec, params.descriptor.dimension());
+    } catch (const std::invalid_argument& e) {
+      NODELET_ERROR("reconfiguration rejected: %s", e.what());
+    }
+  }
+
+  std::shared_ptr<const Setup> current() const {
+    std::lock_guard<std::mutex> lock(setup_mutex_);
+    return setup_;
+  }
+
+  void watchdog() {
+    std::lock_guard<std::mutex> lock(connect_mutex_);
+    if (!subscribed_ || (ros::WallTime::now() - last_frame_).toSec() < 5.0) return;
+    NODELET_WARN("no synchronised frames for 5 s on %s, %s and %s: are all three published, with stamps close "
+                 "together, depth registered to the colour camera?",
+                 sub_rgb_.getTopic().c_str(), sub_depth_.getTopic().c_str(), sub_info_.getTopic().c_str());
+  }
+
+  void onFrame(const ImageConstPtr& rgb, const ImageConstPtr& depth, const CameraInfoConstPtr& info) {
+    const auto start = std::chrono::steady_clock::now();
+    {
+      std::lock_guard<std::mutex> lock(connect_mutex_);
+      last_frame_ = ros::WallTime::now();
+    }
+    const std::shared_ptr<const Setup> setup = current();
+    std::optional<RgbdFrame> frame;
+    try {
+      frame.emplace(frameFromMessages(*rgb, *depth, *info));
+    } catch (const InputError& e) {
+      if (input_errors_.shouldLog(e.what())) NODELET_ERROR("skipping frame: %s", e.what());
+      return;
+    }
+    Features features = setup->risas.extract(*frame);
+    pub_keypoints_.publish(toMessage(features, rgb->header, *info));
+
+    std::lock_guard<std::mutex> lock(frame_mutex_);
+    std::vector<cv::DMatch> matches;
+    MotionEstimate motion;
+    if (previous_ && previous_->features.descriptors.cols != features.descriptors.cols) {
+      NODELET_INFO("descriptor size changed to %d: not matching across the change", features.descriptors.cols);
+    } else if (previous_) {
+      matches = risas::matchDescriptors(features.descriptors, previous_->features.descriptors, setup->params.match);
+      motion = risas::estimateRigidMotion(features.points(), previous_->features.points(), matches, setup->params.motion);
+      if (motion.valid) {
+        geometry_msgs::TransformStamped message;
+        message.header.stamp = rgb->header.stamp;
+        message.header.frame_id = rgb->header.frame_id + "_previous";
+        message.child_frame_id = rgb->header.frame_id;
+        message.transform = toTransform(motion.train_T_query);
+        pub_motion_.publish(message);
+      }
+    }
+    if (pub_image_.getNumSubscribers() > 0) {
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      std::ostringstream caption;
+      caption.precision(1);
+      caption << std::fixed << "RISAS  " << features.keypoints.size() << " features  " << matches.size()
+              << " matches  " << motion.num_inliers << " inliers  " << ms << " ms";
+      const cv::Mat& left = previous_ ? previous_->gray : frame->gray();
+      const std::vector<cv::KeyPoint> none;
+      const cv::Mat overlay = risas::drawMatchOverlay(left, previous_ ? previous_->features.keypoints : none, frame->gray(),
+                                               features.keypoints, matches, motion.inliers, caption.str());
+      pub_image_.publish(cv_bridge::CvImage(rgb->header, sensor_msgs::image_encodings::BGR8, overlay).toImageMsg());
+    }
+    previous_ = PreviousFrame{frame->gray(), std::move(features)};
+  }
+
+  // Subscriptions and their synchronisation.
+  std::unique_ptr<image_transport::ImageTransport> rgb_it_;
+  image_transport::SubscriberFilter sub_rgb_, sub_depth_;
+  message_filters::Subscriber<CameraInfo> sub_info_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  int queue_size_ = 5;
+  bool always_subscribe_ = false;
+
+  std::mutex connect_mutex_;  // guards subscribed_, last_frame_ and the (un)subscribing
+  bool subscribed_ = false;
+  ros::WallTime last_frame_;
+  ros::WallTimer watchdog_;
+
+  ros::Publisher pub_keypoints_, pub_motion_;
+  image_transport::Publisher pub_image_;
+
+  mutable std::mutex setup_mutex_;
+  std::shared_ptr<const Setup> setup_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<RisasConfig>> reconfigure_;
+
+  LogThrottle input_errors_{5.0};
+  std::mutex frame_mutex_;  // frames are matched in arrival order, one at a time
+  std::optional<PreviousFrame> previous_;
+};
+
+}  // namespace risas_ros
+
+PLUGINLIB_EXPORT_CLASS(risas_ros::RisasNodelet, nodelet::Nodelet)

@@ -1,0 +1,170 @@
+// The ROS layer's checks and conversions, without a master.
+#include "synthetic_fixtures.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/ros/conversions.hpp"
+#include "risas/ros/log_throttle.hpp"
+#include "risas/ros/reconfigure.hpp"
+
+#include <cv_bridge/cv_bridge.h>
+#include <opencv2/imgproc.hpp>
+#include <sensor_msgs/image_encodings.h>
+
+#include <gtest/gtest.h>
+
+namespace risas_ros {
+namespace {
+
+namespace enc = sensor_msgs::image_encodings;
+
+struct Messages {
+  sensor_msgs::Image rgb, depth;
+  sensor_msgs::CameraInfo info;
+};
+
+Messages render() {
+  const risas::SyntheticRender r =
+      risas::SyntheticScene::demo().render(risas::syntheticIntrinsics(), risas::test::kVga, risas::test::demoCamera());
+  std_msgs::Header header;
+  header.frame_id = "camera_rgb_optical_frame";
+  header.stamp = ros::Time(100.0);
+  cv::Mat rgb;
+  cv::cvtColor(r.bgr, rgb, cv::COLOR_BGR2RGB);
+  Messages m{*cv_bridge::CvImage(header, enc::RGB8, rgb).toImageMsg(),
+             *cv_bridge::CvImage(header, enc::TYPE_16UC1, r.depth_mm).toImageMsg(),
+             cameraInfoFromIntrinsics(risas::syntheticIntrinsics(), risas::test::kVga)};
+  m.info.header = header;
+  return m;
+}
+
+template <class F>
+void expectInputError(F&& f, const std::string& fragment) {
+  try {
+    f();
+    FAIL() << "expected InputError containing '" << fragment << "'";
+  } catch (const risas::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(Conversions, AcceptsEveryDocumentedEncoding) {
+  const Messages m = render();
+  const RgbdFrame reference = frameFromMessages(m.rgb, m.depth, m.info);
+  EXPECT_EQ(reference.size(), risas::test::kVga);
+  EXPECT_NEAR(risas::syntheticIntrinsics().fx, reference.intrinsics().fx, 1e-9);
+
+  const cv::Mat rgb = cv_bridge::toCvCopy(m.rgb)->image;
+  for (const auto& [encoding, code] : {std::pair<std::string, int>{enc::BGR8, cv::COLOR_RGB2BGR},
+                                       {enc::RGBA8, cv::COLOR_RGB2RGBA}, {enc::BGRA8, cv::COLOR_RGB2BGRA},
+                                       {enc::MONO8, cv::COLOR_RGB2GRAY}}) {
+    cv::Mat converted;
+    cv::cvtColor(rgb, converted, code);
+    const sensor_msgs::Image image = *cv_bridge::CvImage(m.rgb.header, encoding, converted).toImageMsg();
+    const RgbdFrame frame = frameFromMessages(image, m.depth, m.info);
+    EXPECT_LE(cv::norm(frame.gray(), reference.gray(), cv::NORM_INF), 1.0) << encoding;  // same grey
+  }
+  // 32FC1 metres gives the same depth as 16UC1 millimetres.
+  cv::Mat metres;
+  cv_bridge::toCvCopy(m.depth)->image.convertTo(metres, CV_32F, 0.001);
+  const RgbdFrame in_metres =
+      frameFromMessages(m.rgb, *cv_bridge::CvImage(m.depth.header, enc::TYPE_32FC1, metres).toImageMsg(), m.info);
+  cv::Mat diff = cv::abs(in_metres.depth() - reference.depth());
+  EXPECT_LT(cv::norm(diff, cv::NORM_INF, reference.depth() == reference.depth()), 1e-6);
+}
+
+TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
+  const Messages good = render();
+  Messages m = good;
+  m.rgb.encoding = "rgb16";
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "'rgb16'");
+  m = good;
+  m.depth.encoding = enc::MONO8;
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image encoding 'mono8'");
+  m = good;
+  m.depth.header.frame_id = "camera_depth_optical_frame";
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "differs from colour frame_id");
+  m = good;
+  cv::Mat small(240, 320, CV_16UC1, cv::Scalar(1000));
+  m.depth = *cv_bridge::CvImage(good.depth.header, enc::TYPE_16UC1, small).toImageMsg();
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "differ in size");
+  m = good;
+  m.info.width = 320;
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "camera_info is for 320x480");
+  m = good;
+  m.info.K.fill(0.0);
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "not calibrated");
+  m = good;
+  m.info.K[0] = -5.0;
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "focal lengths");
+  m = good;
+  m.rgb.data.resize(100);  // step x height no longer matches the buffer
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "colour image message is malformed");
+  m = good;
+  m.depth.step = 100;  // shorter than a row of 640 16-bit pixels
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image message is malformed");
+}
+
+TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
+  const Messages m = render();
+  const risas::Features f = risas::Risas().extract(frameFromMessages(m.rgb, m.depth, m.info));
+  ASSERT_GT(f.keypoints.size(), 100u);
+  const KeypointArrayPtr message = toMessage(f, m.rgb.header, m.info);
+  EXPECT_EQ(message->descriptor_type, "RISAS");
+  EXPECT_EQ(message->descriptor_dim, 192u);
+  EXPECT_EQ(message->descriptors.size(), f.keypoints.size() * 192);
+  EXPECT_EQ(message->header.stamp, m.rgb.header.stamp);
+  // The documented zero-copy view is the same matrix.
+  const cv::Mat view(static_cast<int>(message->keypoints.size()), 192, CV_32F, message->descriptors.data());
+  EXPECT_EQ(cv::norm(view, f.descriptors, cv::NORM_INF), 0.0);
+
+  const risas::Features back = fromMessage(*message);
+  ASSERT_EQ(back.keypoints.size(), f.keypoints.size());
+  for (size_t i = 0; i < f.keypoints.size(); ++i) {
+    EXPECT_EQ(back.keypoints[i].pt, f.keypoints[i].pt);
+    EXPECT_EQ(back.keypoints[i].angle, f.keypoints[i].angle);
+    EXPECT_EQ(back.geometry[i].point, f.geometry[i].point);
+    EXPECT_EQ(back.geometry[i].normal, f.geometry[i].normal);
+  }
+  message->descriptors.pop_back();
+  EXPECT_THROW(fromMessage(*message), risas::InputError);
+}
+
+TEST(Reconfigure, CfgDefaultsAreTheLibraryDefaultsAndMapBothWays) {
+  const risas::RisasParams defaults;
+  const risas::RisasConfig from_cfg = risas::RisasConfig::__getDefault__();
+  const risas::RisasConfig from_params = toConfig(defaults);
+  EXPECT_EQ(from_cfg.tau, from_params.tau);
+  EXPECT_EQ(from_cfg.response_threshold, from_params.response_threshold);
+  EXPECT_EQ(from_cfg.max_keypoints, from_params.max_keypoints);
+  EXPECT_EQ(from_cfg.gamma, from_params.gamma);
+  EXPECT_EQ(from_cfg.n_pie, from_params.n_pie);
+  EXPECT_EQ(from_cfg.n_bin, from_params.n_bin);
+  EXPECT_EQ(from_cfg.n_vec, from_params.n_vec);
+  EXPECT_EQ(from_cfg.rho_threshold, from_params.rho_threshold);
+  EXPECT_EQ(from_cfg.support_radius, from_params.support_radius);
+  EXPECT_EQ(from_cfg.ratio, from_params.ratio);
+
+  risas::RisasConfig changed = from_params;
+  changed.n_bin = 16;
+  changed.tau = 0.5;
+  const risas::RisasParams applied = applyConfig(changed, defaults);
+  EXPECT_EQ(applied.descriptor.n_bin, 16);
+  EXPECT_EQ(applied.detector.tau, 0.5);
+  EXPECT_EQ(applied.descriptor.dimension(), 8 * 16 * 3);
+  EXPECT_EQ(applied.geometry.normal_radius, defaults.geometry.normal_radius);  // not reconfigurable: kept
+}
+
+TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {
+  ros::Time::init();
+  LogThrottle throttle(60.0);
+  EXPECT_TRUE(throttle.shouldLog("depth encoding 'mono8'"));
+  EXPECT_FALSE(throttle.shouldLog("depth encoding 'mono8'"));
+  EXPECT_TRUE(throttle.shouldLog("sizes differ"));
+  EXPECT_TRUE(throttle.shouldLog("depth encoding 'mono8'"));
+  LogThrottle quick(0.0);
+  EXPECT_TRUE(quick.shouldLog("x"));
+  EXPECT_TRUE(quick.shouldLog("x"));
+}
+
+}  // namespace
+}  // namespace risas_ros

@@ -1,0 +1,299 @@
+// The nodelets as a ROS user meets them, under rostest. Each .test file
+// starts the nodes and runs one suite of this executable (--gtest_filter):
+//   Pipeline  demo.launch: synthetic camera -> RisasNodelet
+//   BadInput  risas_node alone; this test publishes good and bad frames
+//   Bag       bag.launch playing a bag written by risas_dataset_to_bag
+#include "risas/ros/conversions.hpp"
+#include "risas/synthetic_scene.hpp"
+
+#include <risas/KeypointArray.h>
+
+#include <cv_bridge/cv_bridge.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include <functional>
+#include <map>
+#include <mutex>
+
+namespace {
+
+namespace enc = sensor_msgs::image_encodings;
+
+// Everything received on a topic, in arrival order.
+template <class M>
+class Recorder {
+ public:
+  Recorder(ros::NodeHandle& nh, const std::string& topic)
+      : sub_(nh.subscribe<M>(topic, 100, [this](const boost::shared_ptr<const M>& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          messages_.push_back(m);
+        })) {}
+
+  std::vector<boost::shared_ptr<const M>> messages() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_;
+  }
+  // Waits until `predicate` holds for the messages so far.
+  bool waitFor(const std::function<bool(const std::vector<boost::shared_ptr<const M>>&)>& predicate,
+               double seconds) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      if (predicate(messages())) return true;
+      ros::WallDuration(0.05).sleep();
+    }
+    return predicate(messages());
+  }
+  bool waitForCount(size_t n, double seconds) const {
+    return waitFor([n](const auto& m) { return m.size() >= n; }, seconds);
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<boost::shared_ptr<const M>> messages_;
+  ros::Subscriber sub_;
+};
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return T;
+}
+
+bool setIntParameter(const std::string& node, const std::string& name, int value) {
+  dynamic_reconfigure::Reconfigure srv;
+  dynamic_reconfigure::IntParameter p;
+  p.name = name;
+  p.value = value;
+  srv.request.config.ints.push_back(p);
+  return ros::service::waitForService(node + "/set_parameters", ros::Duration(10.0)) &&
+         ros::service::call(node + "/set_parameters", srv);
+}
+
+// ---------------------------------------------------------------- Pipeline --
+
+class Pipeline : public ::testing::Test {
+ protected:
+  ros::NodeHandle nh;
+  Recorder<risas::KeypointArray> keypoints{nh, "/risas/keypoints"};
+  Recorder<sensor_msgs::Image> depth{nh, "/camera/depth_registered/image_raw"};
+};
+
+TEST_F(Pipeline, KeypointArraysCarryDescriptorsAndPointsConsistentWithDepth) {
+  ASSERT_TRUE(keypoints.waitForCount(4, 60.0)) << "no KeypointArrays on /risas/keypoints";
+  const auto depths = depth.messages();
+  int checked_frames = 0;
+  for (const auto& array : keypoints.messages()) {
+    EXPECT_EQ(array->descriptor_type, "RISAS");
+    EXPECT_EQ(array->descriptor_dim, 192u);
+    EXPECT_EQ(array->descriptors.size(), array->keypoints.size() * 192);
+    EXPECT_GT(array->keypoints.size(), 100u);
+    EXPECT_EQ(array->header.frame_id, "camera_rgb_optical_frame");
+    const auto same_stamp = std::find_if(depths.begin(), depths.end(),
+                                         [&](const auto& d) { return d->header.stamp == array->header.stamp; });
+    if (same_stamp == depths.end()) continue;
+    ++checked_frames;
+    const cv::Mat depth_mm = cv_bridge::toCvShare(*same_stamp)->image;
+    const auto& K = array->camera_info.K;
+    for (const risas::Keypoint& k : array->keypoints) {
+      ASSERT_TRUE(std::isfinite(k.point.x) && std::isfinite(k.point.y) && std::isfinite(k.point.z));
+      EXPECT_NEAR(k.point.z, depth_mm.at<uint16_t>(cvRound(k.y), cvRound(k.x)) / 1000.0, 0.002);
+      EXPECT_NEAR(K[0] * k.point.x / k.point.z + K[2], k.x, 0.5);
+      EXPECT_NEAR(K[4] * k.point.y / k.point.z + K[5], k.y, 0.5);
+      EXPECT_NEAR(std::sqrt(k.normal[0] * k.normal[0] + k.normal[1] * k.normal[1] + k.normal[2] * k.normal[2]), 1.0, 1e-4);
+    }
+  }
+  EXPECT_GT(checked_frames, 0) << "no KeypointArray stamp matched a depth image stamp";
+}
+
+TEST_F(Pipeline, OverlayShowsPreviousAndCurrentFrameSideBySide) {
+  Recorder<sensor_msgs::Image> overlay(nh, "/risas/image");
+  ASSERT_TRUE(overlay.waitForCount(3, 60.0)) << "no overlay on /risas/image";
+  for (const auto& image : overlay.messages()) {
+    EXPECT_EQ(image->encoding, enc::BGR8);
+    EXPECT_EQ(image->width, 2u * 640u);
+    EXPECT_GT(image->height, 480u);  // the frames below a caption band
+    EXPECT_EQ(image->header.frame_id, "camera_rgb_optical_frame");
+  }
+}
+
+TEST_F(Pipeline, MotionAgreesWithTheSyntheticGroundTruth) {
+  tf2_ros::Buffer buffer(ros::Duration(60.0));
+  tf2_ros::TransformListener listener(buffer);
+  Recorder<geometry_msgs::TransformStamped> motion(nh, "/risas/motion");
+  ASSERT_TRUE(motion.waitForCount(6, 60.0)) << "no motion on /risas/motion";
+  const auto arrays = keypoints.messages();
+  int compared = 0;
+  for (const auto& m : motion.messages()) {
+    // The motion at stamp t relates the frame before t to the frame at t.
+    const auto current = std::find_if(arrays.begin(), arrays.end(),
+                                      [&](const auto& a) { return a->header.stamp == m->header.stamp; });
+    if (current == arrays.end() || current == arrays.begin()) continue;
+    const ros::Time previous_stamp = (*(current - 1))->header.stamp;
+    geometry_msgs::TransformStamped world_T_previous, world_T_current;
+    try {
+      world_T_previous = buffer.lookupTransform("world", m->child_frame_id, previous_stamp, ros::Duration(2.0));
+      world_T_current = buffer.lookupTransform("world", m->child_frame_id, m->header.stamp, ros::Duration(2.0));
+    } catch (const tf2::TransformException&) {
+      continue;  // this test subscribed to tf after these frames
+    }
+    const Eigen::Isometry3d truth = toEigen(world_T_previous.transform).inverse() * toEigen(world_T_current.transform);
+    const Eigen::Isometry3d error = truth.inverse() * toEigen(m->transform);
+    EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 0.3);
+    EXPECT_LT(error.translation().norm(), 0.005);
+    EXPECT_EQ(m->header.frame_id, m->child_frame_id + "_previous");
+    ++compared;
+  }
+  EXPECT_GE(compared, 3);
+}
+
+TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
+  Recorder<geometry_msgs::TransformStamped> motion(nh, "/risas/motion");
+  ASSERT_TRUE(keypoints.waitForCount(1, 60.0));
+  ASSERT_TRUE(setIntParameter("/risas", "n_bin", 16));
+  EXPECT_TRUE(keypoints.waitFor(
+      [](const auto& m) {
+        return std::count_if(m.begin(), m.end(), [](const auto& a) { return a->descriptor_dim == 8 * 16 * 3; }) >= 3;
+      },
+      30.0))
+      << "descriptor_dim never became 384";
+  for (const auto& a : keypoints.messages()) EXPECT_EQ(a->descriptors.size(), a->keypoints.size() * a->descriptor_dim);
+  // Across the change frames are not matched; after it, matching resumes.
+  const ros::Time changed = [&] {
+    for (const auto& a : keypoints.messages()) {
+      if (a->descriptor_dim == 384) return a->header.stamp;
+    }
+    return ros::Time();
+  }();
+  EXPECT_TRUE(motion.waitFor(
+      [&](const auto& m) { return std::any_of(m.begin(), m.end(), [&](const auto& t) { return t->header.stamp > changed; }); },
+      30.0))
+      << "no motion after the descriptor size changed";
+  ASSERT_TRUE(setIntParameter("/risas", "n_bin", 8));
+}
+
+// ---------------------------------------------------------------- BadInput --
+
+class BadInput : public ::testing::Test {
+ protected:
+  ros::NodeHandle nh;
+  Recorder<risas::KeypointArray> keypoints{nh, "/risas/keypoints"};
+  Recorder<rosgraph_msgs::Log> log{nh, "/rosout"};
+  ros::Publisher rgb = nh.advertise<sensor_msgs::Image>("/camera/rgb/image_rect_color", 10);
+  ros::Publisher depth = nh.advertise<sensor_msgs::Image>("/camera/depth_registered/image_raw", 10);
+  ros::Publisher info = nh.advertise<sensor_msgs::CameraInfo>("/camera/rgb/camera_info", 10);
+
+  struct Frame {
+    sensor_msgs::Image rgb, depth;
+    sensor_msgs::CameraInfo info;
+  };
+
+  Frame goodFrame(double stamp) const {
+    static const risas::SyntheticRender r = risas::SyntheticScene::demo().render(
+        risas::syntheticIntrinsics(), cv::Size(640, 480), risas::SyntheticScene::demoCamera(0.0));
+    std_msgs::Header header;
+    header.stamp = ros::Time(stamp);
+    header.frame_id = "camera_rgb_optical_frame";
+    Frame f{*cv_bridge::CvImage(header, enc::BGR8, r.bgr).toImageMsg(),
+            *cv_bridge::CvImage(header, enc::TYPE_16UC1, r.depth_mm).toImageMsg(),
+            risas_ros::cameraInfoFromIntrinsics(risas::syntheticIntrinsics(), cv::Size(640, 480))};
+    f.info.header = header;
+    return f;
+  }
+
+  void send(const Frame& f) {
+    rgb.publish(f.rgb);
+    depth.publish(f.depth);
+    info.publish(f.info);
+    ros::WallDuration(0.4).sleep();
+  }
+
+  bool logged(const std::string& fragment) const {
+    return log.waitFor(
+        [&](const auto& m) {
+          return std::any_of(m.begin(), m.end(), [&](const auto& l) {
+            return l->level == rosgraph_msgs::Log::ERROR && l->msg.find(fragment) != std::string::npos;
+          });
+        },
+        5.0);
+  }
+};
+
+TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrough) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
+  while ((rgb.getNumSubscribers() == 0 || depth.getNumSubscribers() == 0 || info.getNumSubscribers() == 0) &&
+         ros::WallTime::now() < end) {
+    ros::WallDuration(0.1).sleep();
+  }
+  ASSERT_GT(info.getNumSubscribers(), 0u) << "risas never subscribed to its inputs";
+
+  send(goodFrame(1.0));
+  ASSERT_TRUE(keypoints.waitForCount(1, 20.0)) << "a good frame gave no KeypointArray";
+
+  Frame f = goodFrame(2.0);
+  f.rgb.encoding = "rgb16";
+  send(f);
+  EXPECT_TRUE(logged("'rgb16'"));
+  f = goodFrame(3.0);
+  f.depth.encoding = enc::MONO8;
+  send(f);
+  EXPECT_TRUE(logged("depth image encoding 'mono8'"));
+  f = goodFrame(4.0);
+  cv::Mat small(240, 320, CV_16UC1, cv::Scalar(1000));
+  f.depth = *cv_bridge::CvImage(f.depth.header, enc::TYPE_16UC1, small).toImageMsg();
+  send(f);
+  EXPECT_TRUE(logged("differ in size"));
+  f = goodFrame(5.0);
+  f.depth.header.frame_id = "camera_depth_optical_frame";
+  send(f);
+  EXPECT_TRUE(logged("differs from colour frame_id"));
+  f = goodFrame(6.0);
+  f.info.K.fill(0.0);
+  send(f);
+  EXPECT_TRUE(logged("not calibrated"));
+  f = goodFrame(7.0);
+  f.rgb.data.resize(1000);
+  send(f);
+  EXPECT_TRUE(logged("malformed"));
+
+  send(goodFrame(8.0));
+  ASSERT_TRUE(keypoints.waitForCount(2, 20.0)) << "risas stopped publishing after bad input";
+  const auto arrays = keypoints.messages();
+  ASSERT_EQ(arrays.size(), 2u) << "a bad frame produced features";
+  EXPECT_EQ(arrays[1]->header.stamp, ros::Time(8.0));
+}
+
+// --------------------------------------------------------------------- Bag --
+
+TEST(Bag, EveryFrameOfTheBagComesOutAsAKeypointArray) {
+  ros::NodeHandle nh;
+  Recorder<risas::KeypointArray> keypoints(nh, "/risas/keypoints");
+  const int frames = ros::param::param("~frames", 5);
+  ASSERT_TRUE(keypoints.waitForCount(static_cast<size_t>(frames), 60.0))
+      << keypoints.messages().size() << " of " << frames << " frames came out";
+  const auto arrays = keypoints.messages();
+  for (size_t i = 0; i < arrays.size(); ++i) {
+    EXPECT_EQ(arrays[i]->descriptor_dim, 192u);
+    EXPECT_GT(arrays[i]->keypoints.size(), 100u);
+    EXPECT_EQ(arrays[i]->header.stamp, ros::Time(1.0e9) + ros::Duration(i / 5.0)) << "frame " << i;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "risas_test_nodes");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
