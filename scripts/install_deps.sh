@@ -9,7 +9,7 @@ packages=(
   ros-core-dev rosbash python3-rostest catkin
   libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
-  python3-sensor-msgs libtf2-ros-dev libopenni2-dev
+  python3-sensor-msgs libtf2-ros-dev libopenni2-dev libcamera-info-manager-dev
 )
 
 missing=()

@@ -1,0 +1,182 @@
+// risas/OpenNI2CameraNodelet: a Kinect/Xtion (or an .oni recording) through
+// libopenni2, for Debian, which has no openni2_camera. Publishes like
+// openni2_camera does:
+//   rgb/image_rect_color        rgb8
+//   depth_registered/image_raw  16UC1 millimetres, registered to rgb
+//                               (depth/image_raw when the device cannot register)
+//   rgb/camera_info             from ~camera_info_url if it holds a calibration,
+//                               else from the device's fields of view
+// Streams run only while someone subscribes (~always_on to override).
+// Parameters: ~device_id ("" first device, "#N", URI part, or file.oni),
+// ~width, ~height, ~fps (640, 480, 30), ~depth_registration (true),
+// ~frame_sync (true), ~rgb_frame_id, ~depth_frame_id, ~camera_info_url,
+// ~reconnect (true: reopen a device that went away; false: shut down).
+// No device at start: a message saying so and listing what OpenNI2 found,
+// then the node shuts down.
+#include "risas/ros/openni2_device.hpp"
+#include "risas/ros/rgbd_camera_driver.hpp"
+
+#include <camera_info_manager/camera_info_manager.h>
+#include <image_transport/image_transport.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace risas_ros {
+
+class OpenNI2CameraNodelet : public nodelet::Nodelet {
+ public:
+  ~OpenNI2CameraNodelet() override {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    device_id_ = pnh.param<std::string>("device_id", "");
+    settings_.mode = {pnh.param("width", 640), pnh.param("height", 480), pnh.param("fps", 30)};
+    settings_.depth_registration = pnh.param("depth_registration", true);
+    settings_.frame_sync = pnh.param("frame_sync", true);
+    settings_.rgb_frame_id = pnh.param<std::string>("rgb_frame_id", settings_.rgb_frame_id);
+    settings_.depth_frame_id = pnh.param<std::string>("depth_frame_id", settings_.depth_frame_id);
+    always_on_ = pnh.param("always_on", false);
+    reconnect_ = pnh.param("reconnect", true);
+
+    const std::string problem = openDevice();
+    if (!problem.empty()) {
+      NODELET_FATAL("%s", problem.c_str());
+      ros::requestShutdown();
+      return;
+    }
+    camera_info_ = driver_->cameraInfoFromFov();
+    const std::string url = pnh.param<std::string>("camera_info_url", "");
+    if (!url.empty()) {
+      camera_info_manager::CameraInfoManager manager(ros::NodeHandle(nh, "rgb"), "rgb", url);
+      if (manager.isCalibrated()) {
+        camera_info_ = manager.getCameraInfo();
+      } else {
+        NODELET_WARN("%s holds no calibration: using intrinsics from the field of view", url.c_str());
+      }
+    }
+
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      image_transport::ImageTransport it(nh);
+      const auto connect = [this](const auto&) { connectCb(); };
+      pub_color_ = it.advertise("rgb/image_rect_color", 5, connect, connect);
+      pub_depth_ = it.advertise(driver_->depthTopic(), 5, connect, connect);
+      pub_info_ = nh.advertise<sensor_msgs::CameraInfo>("rgb/camera_info", 5, connect, connect);
+    }
+    connectCb();
+    thread_ = std::thread([this] { publishLoop(); });
+  }
+
+  // Opens the device and configures it; what went wrong, or "".
+  std::string openDevice() {
+    try {
+      auto driver = std::make_unique<RgbdCameraDriver>(openOpenNI2Device(device_id_), settings_, [] { return ros::Time::now(); });
+      if (!driver->warning().empty()) NODELET_WARN("%s", driver->warning().c_str());
+      NODELET_INFO("opened %s: %dx%d@%d, depth %s", driver->device().description().c_str(), settings_.mode.width,
+                   settings_.mode.height, settings_.mode.fps, driver->registered() ? "registered to colour" : "unregistered");
+      std::lock_guard<std::mutex> lock(mutex_);
+      driver_ = std::move(driver);
+      return "";
+    } catch (const DeviceError& e) {
+      return e.what();
+    }
+  }
+
+  bool wanted() const {
+    return always_on_ || pub_color_.getNumSubscribers() > 0 || pub_depth_.getNumSubscribers() > 0 ||
+           pub_info_.getNumSubscribers() > 0;
+  }
+
+  void connectCb() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!driver_) return;
+    try {
+      if (wanted() && !driver_->streaming()) {
+        driver_->start();
+        NODELET_INFO("streaming started");
+      } else if (!wanted() && driver_->streaming()) {
+        driver_->stop();
+        NODELET_INFO("nobody subscribes: streaming stopped");
+      }
+    } catch (const DeviceError& e) {
+      NODELET_ERROR("%s", e.what());
+    }
+  }
+
+  void publishLoop() {
+    while (running_ && ros::ok()) {
+      std::optional<CameraMessages> messages;
+      try {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (!driver_ || !driver_->streaming()) {
+          lock.unlock();
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+          continue;
+        }
+        messages = driver_->next(0.5);
+      } catch (const DeviceError& e) {
+        NODELET_ERROR("%s", e.what());
+        if (!recover()) return;
+        continue;
+      }
+      if (!messages) {
+        NODELET_WARN_THROTTLE(5.0, "no frames from the device for 0.5 s");
+        continue;
+      }
+      auto info = boost::make_shared<sensor_msgs::CameraInfo>(camera_info_);
+      info->header = messages->color->header;
+      pub_color_.publish(messages->color);
+      pub_depth_.publish(messages->depth);
+      pub_info_.publish(info);
+    }
+  }
+
+  // After the device went away: reopen it (~reconnect) or shut down.
+  bool recover() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      driver_.reset();
+    }
+    if (!reconnect_) {
+      NODELET_FATAL("device lost and ~reconnect is false: shutting down");
+      ros::requestShutdown();
+      return false;
+    }
+    while (running_ && ros::ok()) {
+      std::this_thread::sleep_for(std::chrono::seconds(2));
+      const std::string problem = openDevice();
+      if (problem.empty()) {
+        connectCb();
+        return true;
+      }
+      NODELET_WARN_THROTTLE(10.0, "cannot reopen the device yet: %s", problem.c_str());
+    }
+    return false;
+  }
+
+  std::string device_id_;
+  CameraSettings settings_;
+  bool always_on_ = false, reconnect_ = true;
+  sensor_msgs::CameraInfo camera_info_;
+
+  std::mutex mutex_;  // guards driver_ between the publishing thread and connect callbacks
+  std::unique_ptr<RgbdCameraDriver> driver_;
+  image_transport::Publisher pub_color_, pub_depth_;
+  ros::Publisher pub_info_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+}  // namespace risas_ros
+
+PLUGINLIB_EXPORT_CLASS(risas_ros::OpenNI2CameraNodelet, nodelet::Nodelet)

@@ -1,0 +1,183 @@
+// The camera nodelet's logic with a fake device: registration and sync flags,
+// streaming, encodings, frame_ids, stamps, intrinsics, errors. No hardware.
+#include "risas/ros/conversions.hpp"
+#include "risas/ros/rgbd_camera_driver.hpp"
+#include "risas/synthetic_scene.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace risas_ros {
+namespace {
+
+// A device that renders the synthetic scene, with a device clock of its own.
+struct FakeDevice : RgbdDevice {
+  struct Log {
+    bool registration = false, frame_sync = false, streaming = false;
+    int starts = 0, stops = 0;
+    StreamMode mode;
+  };
+  Log* log;
+  bool registration_supported = true;
+  uint64_t clock_us = 5'000'000;
+  double clock_rate = 1.0;  // device clock speed relative to real time
+  int reads_until_gone = -1;
+  bool time_out = false;
+
+  explicit FakeDevice(Log* l) : log(l) {}
+  std::string description() const override { return "FakeDevice at fake://1"; }
+  bool supportsRegistration() const override { return registration_supported; }
+  void setRegistration(bool enabled) override { log->registration = enabled; }
+  void setFrameSync(bool enabled) override { log->frame_sync = enabled; }
+  void start(const StreamMode& mode) override {
+    log->mode = mode;
+    log->streaming = true;
+    ++log->starts;
+  }
+  void stop() override {
+    log->streaming = false;
+    ++log->stops;
+  }
+  bool read(DeviceFrame& color, DeviceFrame& depth, double) override {
+    if (reads_until_gone == 0) throw DeviceError(description() + " was disconnected");
+    if (reads_until_gone > 0) --reads_until_gone;
+    if (time_out) return false;
+    static const risas::SyntheticRender r = risas::SyntheticScene::demo().render(
+        risas::syntheticIntrinsics(), cv::Size(640, 480), risas::SyntheticScene::demoCamera(0.0));
+    cv::cvtColor(r.bgr, color.image, cv::COLOR_BGR2RGB);
+    depth.image = r.depth_mm.clone();
+    color.timestamp_us = clock_us;
+    depth.timestamp_us = clock_us + 700;  // depth a little after colour, as on a PS1080
+    clock_us += static_cast<uint64_t>(33333 * clock_rate);
+    return true;
+  }
+  double horizontalFov() const override { return 1.0225; }  // an Xtion's 58.6 degrees
+  double verticalFov() const override { return 0.7944; }
+};
+
+struct Harness {
+  FakeDevice::Log log;
+  FakeDevice* device = nullptr;
+  ros::Time now{1000.0};
+  std::unique_ptr<RgbdCameraDriver> driver;
+
+  explicit Harness(CameraSettings settings = CameraSettings(), bool supports_registration = true) {
+    auto fake = std::make_unique<FakeDevice>(&log);
+    fake->registration_supported = supports_registration;
+    device = fake.get();
+    driver = std::make_unique<RgbdCameraDriver>(std::move(fake), settings, [this] { return now; });
+  }
+  // One frame period of real time passes, then a read.
+  std::optional<CameraMessages> tick() {
+    now += ros::Duration(1.0 / 30.0);
+    return driver->next(0.5);
+  }
+};
+
+TEST(CameraDriver, RegistersDepthAndSyncsFramesWhenTheDeviceCan) {
+  Harness h;
+  EXPECT_TRUE(h.log.registration);
+  EXPECT_TRUE(h.log.frame_sync);
+  EXPECT_TRUE(h.driver->registered());
+  EXPECT_TRUE(h.driver->warning().empty());
+  EXPECT_EQ(h.driver->depthTopic(), "depth_registered/image_raw");
+}
+
+TEST(CameraDriver, PublishesUnregisteredDepthSeparatelyWhenTheDeviceCannotRegister) {
+  Harness h(CameraSettings(), false);
+  EXPECT_FALSE(h.log.registration);
+  EXPECT_FALSE(h.driver->registered());
+  EXPECT_NE(h.driver->warning().find("cannot register depth to colour"), std::string::npos) << h.driver->warning();
+  EXPECT_EQ(h.driver->depthTopic(), "depth/image_raw");
+  h.driver->start();
+  const auto m = h.tick();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->depth->header.frame_id, "camera_depth_optical_frame");
+}
+
+TEST(CameraDriver, StreamsOnlyBetweenStartAndStop) {
+  Harness h;
+  EXPECT_FALSE(h.driver->next(0.1)) << "frames before start";
+  EXPECT_FALSE(h.log.streaming);
+  h.driver->start();
+  h.driver->start();  // idempotent
+  EXPECT_TRUE(h.log.streaming);
+  EXPECT_EQ(h.log.starts, 1);
+  EXPECT_EQ(h.log.mode.width, 640);
+  EXPECT_EQ(h.log.mode.fps, 30);
+  EXPECT_TRUE(h.tick());
+  h.driver->stop();
+  EXPECT_FALSE(h.log.streaming);
+  EXPECT_EQ(h.log.stops, 1);
+  EXPECT_FALSE(h.driver->next(0.1));
+}
+
+TEST(CameraDriver, MessagesHaveOpenNIEncodingsFrameIdsAndOneStampPerPair) {
+  Harness h;
+  h.driver->start();
+  const auto first = h.tick();
+  const auto second = h.tick();
+  ASSERT_TRUE(first && second);
+  EXPECT_EQ(first->color->encoding, "rgb8");
+  EXPECT_EQ(first->depth->encoding, "16UC1");
+  EXPECT_EQ(first->color->width, 640u);
+  EXPECT_EQ(first->depth->height, 480u);
+  EXPECT_EQ(first->color->header.frame_id, "camera_rgb_optical_frame");
+  EXPECT_EQ(first->depth->header.frame_id, "camera_rgb_optical_frame");
+  EXPECT_EQ(first->color->header.stamp, first->depth->header.stamp);
+  EXPECT_NEAR((second->color->header.stamp - first->color->header.stamp).toSec(), 0.033333, 1e-6)
+      << "stamps follow the device clock";
+  // What the camera publishes is what RisasNodelet accepts.
+  const RgbdFrame frame = frameFromMessages(*first->color, *first->depth, h.driver->cameraInfoFromFov());
+  EXPECT_EQ(frame.size(), cv::Size(640, 480));
+}
+
+TEST(CameraDriver, StampsFollowTheDeviceClockButNeverDriftAway) {
+  Harness h;
+  h.device->clock_rate = 1.1;  // a device clock 10 % fast
+  h.driver->start();
+  for (int i = 0; i < 300; ++i) {
+    const auto m = h.tick();
+    ASSERT_TRUE(m);
+    EXPECT_LE(std::abs((m->color->header.stamp - h.now).toSec()), 0.05) << "frame " << i;
+  }
+}
+
+TEST(CameraDriver, IntrinsicsFromTheFieldsOfView) {
+  Harness h;
+  const sensor_msgs::CameraInfo info = h.driver->cameraInfoFromFov();
+  EXPECT_NEAR(info.K[0], 320.0 / std::tan(1.0225 / 2.0), 1e-9);
+  EXPECT_NEAR(info.K[4], 240.0 / std::tan(0.7944 / 2.0), 1e-9);
+  EXPECT_NEAR(info.K[0], 570.3, 1.0);  // an Xtion's nominal focal length
+  EXPECT_DOUBLE_EQ(info.K[2], 319.5);
+  EXPECT_DOUBLE_EQ(info.K[5], 239.5);
+  EXPECT_EQ(info.header.frame_id, "camera_rgb_optical_frame");
+}
+
+TEST(CameraDriver, TimeoutsAndALostDeviceAreReported) {
+  Harness h;
+  h.driver->start();
+  h.device->time_out = true;
+  EXPECT_FALSE(h.tick());
+  h.device->time_out = false;
+  h.device->reads_until_gone = 1;
+  EXPECT_TRUE(h.tick());
+  try {
+    h.tick();
+    FAIL() << "a lost device went unreported";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("fake://1 was disconnected"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CameraDriver, RejectsAnImpossibleMode) {
+  CameraSettings settings;
+  settings.mode.fps = 0;
+  EXPECT_THROW(Harness h(settings), DeviceError);
+}
+
+}  // namespace
+}  // namespace risas_ros
