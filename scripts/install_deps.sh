@@ -10,6 +10,7 @@ packages=(
   libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   python3-sensor-msgs libtf2-ros-dev libopenni2-dev libcamera-info-manager-dev
+  libpcl-dev python3-matplotlib
 )
 
 missing=()

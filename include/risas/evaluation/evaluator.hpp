@@ -1,0 +1,70 @@
+// Runs feature methods over dataset pairs under the protocol and scores them.
+#pragma once
+
+#include "risas/evaluation/methods.hpp"
+#include "risas/evaluation/metrics.hpp"
+#include "risas/evaluation/protocol.hpp"
+#include "risas/intrinsics.hpp"
+#include "risas/rgbd_frame.hpp"
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace risas::eval {
+
+struct PairResult {
+  Pair pair;
+  std::string method;
+  int reference_keypoints = 0, query_keypoints = 0;  // with a 3D point
+  int dropped_reference = 0, dropped_query = 0;      // without depth: dropped
+  int positives = 0;                                 // query keypoints with a correct counterpart
+  std::vector<Candidate> candidates;
+  double auc = 0.0;
+  PrPoint at_ratio;          // precision, recall, correct at the report ratio
+  double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
+};
+
+class Evaluator {
+ public:
+  // d_min: correctness distance (paper: 0.05 m); report_ratio: the NNDR at
+  // which precision, recall and correct matches are reported (0.8).
+  Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min = 0.05,
+            double report_ratio = 0.8);
+
+  // Every method on the pair; a reference frame shared by several pairs is
+  // processed once per method. InputError for unreadable frames.
+  std::vector<PairResult> evaluate(const Pair& pair);
+
+  const std::vector<std::unique_ptr<FeatureMethod>>& methods() const { return methods_; }
+
+ private:
+  struct Processed {
+    MethodOutput output;
+    double ms = 0.0;
+  };
+  struct LoadedFrame {
+    cv::Mat bgr;
+    RgbdFrame frame;
+  };
+  LoadedFrame load(const FramePaths& paths) const;
+  Processed process(const FeatureMethod& method, const LoadedFrame& frame);
+
+  std::vector<std::unique_ptr<FeatureMethod>> methods_;
+  Intrinsics intrinsics_;
+  double d_min_, report_ratio_;
+  std::map<std::pair<std::string, std::string>, Processed> reference_cache_;  // (method, rgb path)
+};
+
+// Reports, written into `dir`:
+//   pairs.csv     one row per pair and method
+//   curves.csv    per scene, sequence and method: the PR curve of all its pairs pooled
+//   summary.csv   per scene, sequence and method: mean PR-AUC, precision,
+//                 recall and correct matches at the report ratio, ms/frame
+//   summary.md    the same as markdown tables, one per scene type, with the
+//                 best mean PR-AUC of each sequence in bold
+//   scale.csv     correct-match percentage (correct / matches) per scale step
+void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio);
+
+}  // namespace risas::eval

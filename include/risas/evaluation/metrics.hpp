@@ -1,0 +1,57 @@
+// The matching metrics of paper IV-A, made exact (see docs/evaluation.md):
+// nearest-neighbour distance ratio matching of each query descriptor against
+// the reference frame, correctness by 3D distance under the ground truth,
+// precision-recall by sweeping the ratio threshold, and its area.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace risas::eval {
+
+// One query keypoint's nearest reference neighbour: its distance ratio
+// d1/d2 and whether it is a correct match.
+struct Candidate {
+  double ratio;
+  bool correct;
+};
+
+// A match (query i -> reference j) is correct when
+// ||p_ref[j] - (R p_query[i] + t)|| <= d_min (paper eq. 9, d_min = 0.05 m).
+bool isCorrect(const cv::Point3f& reference, const cv::Point3f& query, const Eigen::Isometry3d& ref_T_query,
+               double d_min);
+
+// The nearest and second-nearest reference descriptor of every query row
+// under `norm` (cv::NORM_L2, NORM_HAMMING, ...). Rows without a second
+// neighbour (a reference set of one) have no ratio and are left out.
+std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv::Mat& reference, int norm,
+                                                  const std::vector<cv::Point3f>& query_points,
+                                                  const std::vector<cv::Point3f>& reference_points,
+                                                  const Eigen::Isometry3d& ref_T_query, double d_min);
+
+// Query keypoints with a correct counterpart among the reference keypoints:
+// the recall's denominator.
+int countPositives(const std::vector<cv::Point3f>& query_points, const std::vector<cv::Point3f>& reference_points,
+                   const Eigen::Isometry3d& ref_T_query, double d_min);
+
+struct PrPoint {
+  double ratio;      // threshold: matches with d1/d2 <= ratio
+  double precision;  // correct / matches
+  double recall;     // correct / positives
+  int matches;
+  int correct;
+};
+
+// One point per distinct ratio, ascending: the whole curve of thresholds in (0, 1].
+std::vector<PrPoint> prCurve(std::vector<Candidate> candidates, int positives);
+
+// Area under precision(recall), as average precision: the sum over the curve
+// of the recall gained times the precision there. 0 without positives.
+double prAuc(const std::vector<PrPoint>& curve);
+
+// The curve's state at a threshold (the last point with ratio <= threshold).
+PrPoint atThreshold(const std::vector<PrPoint>& curve, double threshold);
+
+}  // namespace risas::eval

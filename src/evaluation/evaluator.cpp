@@ -1,0 +1,92 @@
+#include "risas/evaluation/evaluator.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/io.hpp"
+
+#include <chrono>
+#include <functional>
+#include <cmath>
+
+namespace risas::eval {
+
+Evaluator::Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min,
+                     double report_ratio)
+    : methods_(std::move(methods)), intrinsics_(intrinsics), d_min_(d_min), report_ratio_(report_ratio) {}
+
+Evaluator::Processed Evaluator::process(const FeatureMethod& method, const LoadedFrame& frame) {
+  const auto start = std::chrono::steady_clock::now();
+  Processed p{method.run(frame.frame, frame.bgr), 0.0};
+  p.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return p;
+}
+
+namespace {
+
+// Keeps the keypoints with a 3D point; returns how many were dropped.
+int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const cv::Point2f&)>& point_of,
+                  std::vector<cv::Point3f>& points, cv::Mat& descriptors) {
+  int dropped = 0;
+  descriptors = cv::Mat(0, out.descriptors.cols, out.descriptors.type());
+  for (size_t i = 0; i < out.pixels.size(); ++i) {
+    const cv::Point3f p = point_of(out.pixels[i]);
+    if (std::isnan(p.z)) {
+      ++dropped;
+      continue;
+    }
+    points.push_back(p);
+    descriptors.push_back(out.descriptors.row(static_cast<int>(i)));
+  }
+  return dropped;
+}
+
+}  // namespace
+
+Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
+  const RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
+  return {images.bgr, RgbdFrame(images.bgr, images.depth_mm, intrinsics_)};
+}
+
+std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
+  const LoadedFrame reference_frame = load(pair.reference), query_frame = load(pair.query);
+  const cv::Mat& reference_depth = reference_frame.frame.depth();
+  const cv::Mat& query_depth = query_frame.frame.depth();
+  std::vector<PairResult> results;
+  for (const auto& method : methods_) {
+    const auto key = std::make_pair(method->name(), pair.reference.rgb);
+    auto cached = reference_cache_.find(key);
+    if (cached == reference_cache_.end()) cached = reference_cache_.emplace(key, process(*method, reference_frame)).first;
+    const Processed& reference = cached->second;
+    const Processed query = process(*method, query_frame);
+
+    PairResult r;
+    r.pair = pair;
+    r.method = method->name();
+    r.ms_per_frame = 0.5 * (reference.ms + query.ms);
+    std::vector<cv::Point3f> reference_points, query_points;
+    cv::Mat reference_descriptors, query_descriptors;
+    r.dropped_reference = keepWithDepth(
+        reference.output, [&](const cv::Point2f& px) { return keypointPoint(reference_depth, intrinsics_, px); },
+        reference_points, reference_descriptors);
+    r.dropped_query = keepWithDepth(
+        query.output,
+        [&](const cv::Point2f& px) {
+          // A rotated image's pixel takes the unrotated frame's depth there.
+          return pair.image_rotation_deg != 0.0
+                     ? keypointPoint(reference_depth, intrinsics_, unrotatePixel(px, pair.image_rotation_deg))
+                     : keypointPoint(query_depth, intrinsics_, px);
+        },
+        query_points, query_descriptors);
+    r.reference_keypoints = static_cast<int>(reference_points.size());
+    r.query_keypoints = static_cast<int>(query_points.size());
+    r.positives = countPositives(query_points, reference_points, pair.ref_T_query, d_min_);
+    r.candidates = nearestNeighbourCandidates(query_descriptors, reference_descriptors, method->norm(), query_points,
+                                              reference_points, pair.ref_T_query, d_min_);
+    const std::vector<PrPoint> curve = prCurve(r.candidates, r.positives);
+    r.auc = prAuc(curve);
+    r.at_ratio = atThreshold(curve, report_ratio_);
+    results.push_back(std::move(r));
+  }
+  return results;
+}
+
+}  // namespace risas::eval

@@ -1,0 +1,75 @@
+#include "risas/evaluation/methods.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/risas.hpp"
+
+#include <opencv2/features2d.hpp>
+
+namespace risas::eval {
+namespace {
+
+class RisasMethod : public FeatureMethod {
+ public:
+  RisasMethod(std::string name, const RisasParams& params) : name_(std::move(name)), risas_(params) {}
+  std::string name() const override { return name_; }
+  int norm() const override { return risas_.defaultNorm(); }
+  MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
+    const Features f = risas_.extract(frame);
+    MethodOutput out;
+    for (const cv::KeyPoint& k : f.keypoints) out.pixels.push_back(k.pt);
+    out.descriptors = f.descriptors;
+    return out;
+  }
+
+ private:
+  std::string name_;
+  Risas risas_;
+};
+
+// An OpenCV Feature2D on the grey image.
+class OpenCvMethod : public FeatureMethod {
+ public:
+  OpenCvMethod(std::string name, cv::Ptr<cv::Feature2D> feature) : name_(std::move(name)), feature_(std::move(feature)) {}
+  std::string name() const override { return name_; }
+  int norm() const override { return feature_->defaultNorm(); }
+  MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
+    std::vector<cv::KeyPoint> keypoints;
+    MethodOutput out;
+    feature_->detectAndCompute(frame.gray(), cv::noArray(), keypoints, out.descriptors);
+    for (const cv::KeyPoint& k : keypoints) out.pixels.push_back(k.pt);
+    return out;
+  }
+
+ private:
+  std::string name_;
+  cv::Ptr<cv::Feature2D> feature_;
+};
+
+}  // namespace
+
+std::vector<std::string> methodNames() {
+  std::vector<std::string> names = {"RISAS", "ORB", "SIFT"};
+  if (havePcl()) {
+    for (const char* n : {"RISAS+CSHOT", "ISS+CSHOT", "UNIFORM+CSHOT", "SIFT+CSHOT"}) names.push_back(n);
+  }
+  return names;
+}
+
+std::unique_ptr<FeatureMethod> makeRisas(const std::string& name, const RisasParams& params) {
+  return std::make_unique<RisasMethod>(name, params);
+}
+
+std::unique_ptr<FeatureMethod> makeMethod(const std::string& name, const RisasParams& params) {
+  if (name == "RISAS") return makeRisas(name, params);
+  // ORB as the paper's peers and visual odometry use it: 1000 features.
+  if (name == "ORB") return std::make_unique<OpenCvMethod>(name, cv::ORB::create(1000));
+  if (name == "SIFT") return std::make_unique<OpenCvMethod>(name, cv::SIFT::create());
+  if (auto pcl = makePclMethod(name, params)) return pcl;
+  std::string known;
+  for (const std::string& n : methodNames()) known += " " + n;
+  throw InputError("unknown method '" + name + "'" +
+                   (name.find("CSHOT") != std::string::npos && !havePcl() ? " (this build has no PCL)" : "") +
+                   "; known:" + known);
+}
+
+}  // namespace risas::eval

@@ -1,0 +1,82 @@
+#include "risas/evaluation/metrics.hpp"
+
+#include "risas/errors.hpp"
+
+#include <opencv2/features2d.hpp>
+
+#include <algorithm>
+
+namespace risas::eval {
+
+bool isCorrect(const cv::Point3f& reference, const cv::Point3f& query, const Eigen::Isometry3d& ref_T_query,
+               double d_min) {
+  const Eigen::Vector3d moved = ref_T_query * Eigen::Vector3d(query.x, query.y, query.z);
+  return (Eigen::Vector3d(reference.x, reference.y, reference.z) - moved).norm() <= d_min;
+}
+
+std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv::Mat& reference, int norm,
+                                                  const std::vector<cv::Point3f>& query_points,
+                                                  const std::vector<cv::Point3f>& reference_points,
+                                                  const Eigen::Isometry3d& ref_T_query, double d_min) {
+  if (query.rows != static_cast<int>(query_points.size()) || reference.rows != static_cast<int>(reference_points.size())) {
+    throw InputError("descriptors and points differ in count");
+  }
+  std::vector<Candidate> candidates;
+  if (query.empty() || reference.rows < 2) return candidates;
+  std::vector<std::vector<cv::DMatch>> knn;
+  cv::BFMatcher(norm).knnMatch(query, reference, knn, 2);
+  for (const auto& pair : knn) {
+    if (pair.size() < 2) continue;
+    const double d1 = pair[0].distance, d2 = pair[1].distance;
+    const double ratio = d2 > 0.0 ? d1 / d2 : 1.0;  // two identical neighbours: undecidable
+    candidates.push_back({ratio, isCorrect(reference_points[static_cast<size_t>(pair[0].trainIdx)],
+                                           query_points[static_cast<size_t>(pair[0].queryIdx)], ref_T_query, d_min)});
+  }
+  return candidates;
+}
+
+int countPositives(const std::vector<cv::Point3f>& query_points, const std::vector<cv::Point3f>& reference_points,
+                   const Eigen::Isometry3d& ref_T_query, double d_min) {
+  int positives = 0;
+  for (const cv::Point3f& q : query_points) {
+    positives += std::any_of(reference_points.begin(), reference_points.end(),
+                             [&](const cv::Point3f& r) { return isCorrect(r, q, ref_T_query, d_min); });
+  }
+  return positives;
+}
+
+std::vector<PrPoint> prCurve(std::vector<Candidate> candidates, int positives) {
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.ratio < b.ratio; });
+  std::vector<PrPoint> curve;
+  int matches = 0, correct = 0;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    ++matches;
+    correct += candidates[i].correct;
+    // Equal ratios enter together: one threshold cannot split them.
+    if (i + 1 < candidates.size() && candidates[i + 1].ratio == candidates[i].ratio) continue;
+    curve.push_back({candidates[i].ratio, static_cast<double>(correct) / matches,
+                     positives > 0 ? static_cast<double>(correct) / positives : 0.0, matches, correct});
+  }
+  return curve;
+}
+
+double prAuc(const std::vector<PrPoint>& curve) {
+  double auc = 0.0, previous_recall = 0.0;
+  for (const PrPoint& p : curve) {
+    auc += (p.recall - previous_recall) * p.precision;
+    previous_recall = p.recall;
+  }
+  return auc;
+}
+
+PrPoint atThreshold(const std::vector<PrPoint>& curve, double threshold) {
+  PrPoint state{threshold, 0.0, 0.0, 0, 0};
+  for (const PrPoint& p : curve) {
+    if (p.ratio > threshold) break;
+    state = p;
+    state.ratio = threshold;
+  }
+  return state;
+}
+
+}  // namespace risas::eval

@@ -1,0 +1,144 @@
+#include "risas/evaluation/evaluator.hpp"
+
+#include "risas/errors.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace risas::eval {
+namespace {
+
+struct Group {
+  std::vector<const PairResult*> results;
+  double mean(double (*f)(const PairResult&)) const {
+    double sum = 0.0;
+    for (const PairResult* r : results) sum += f(*r);
+    return results.empty() ? 0.0 : sum / results.size();
+  }
+};
+
+using Key = std::tuple<std::string, std::string, std::string>;  // scene, sequence, method
+
+std::ofstream openFile(const std::string& dir, const std::string& name) {
+  std::ofstream out(std::filesystem::path(dir) / name);
+  if (!out) throw InputError("cannot write " + (std::filesystem::path(dir) / name).string());
+  out << std::setprecision(6);
+  return out;
+}
+
+}  // namespace
+
+void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio) {
+  std::filesystem::create_directories(dir);
+  // Methods and sequences in the order they were run.
+  std::vector<std::string> methods, scenes, sequences;
+  const auto remember = [](std::vector<std::string>& list, const std::string& v) {
+    if (std::find(list.begin(), list.end(), v) == list.end()) list.push_back(v);
+  };
+  std::map<Key, Group> groups;
+  for (const PairResult& r : results) {
+    remember(methods, r.method);
+    remember(scenes, r.pair.scene);
+    remember(sequences, r.pair.sequence);
+    groups[{r.pair.scene, r.pair.sequence, r.method}].results.push_back(&r);
+  }
+
+  std::ofstream pairs = openFile(dir, "pairs.csv");
+  pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
+           "positives,pr_auc,precision,recall,correct,matches,ms_per_frame\n";
+  for (const PairResult& r : results) {
+    pairs << r.pair.scene << "," << r.pair.sequence << "," << r.pair.label << "," << r.pair.step << "," << r.method
+          << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
+          << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
+          << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << "\n";
+  }
+
+  std::ofstream curves = openFile(dir, "curves.csv");
+  curves << "scene,sequence,method,ratio,precision,recall\n";
+  std::ofstream summary = openFile(dir, "summary.csv");
+  summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame\n";
+  for (const auto& [key, group] : groups) {
+    const auto& [scene, sequence, method] = key;
+    std::vector<Candidate> pooled;
+    int positives = 0;
+    for (const PairResult* r : group.results) {
+      pooled.insert(pooled.end(), r->candidates.begin(), r->candidates.end());
+      positives += r->positives;
+    }
+    const std::vector<PrPoint> curve = prCurve(pooled, positives);
+    for (int step = 1; step <= 100; ++step) {
+      const PrPoint p = atThreshold(curve, step / 100.0);
+      if (p.matches > 0) curves << scene << "," << sequence << "," << method << "," << p.ratio << "," << p.precision << "," << p.recall << "\n";
+    }
+    summary << scene << "," << sequence << "," << method << "," << group.results.size() << ","
+            << group.mean([](const PairResult& r) { return r.auc; }) << ","
+            << group.mean([](const PairResult& r) { return r.at_ratio.precision; }) << ","
+            << group.mean([](const PairResult& r) { return r.at_ratio.recall; }) << ","
+            << group.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); }) << ","
+            << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
+            << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "\n";
+  }
+
+  std::ofstream scale = openFile(dir, "scale.csv");
+  scale << "scene,method,step,correct_percentage,correct,matches\n";
+  for (const PairResult& r : results) {
+    if (r.pair.sequence != "scale") continue;
+    const double percent = r.at_ratio.matches ? 100.0 * r.at_ratio.correct / r.at_ratio.matches : 0.0;
+    scale << r.pair.scene << "," << r.method << "," << r.pair.step << "," << percent << "," << r.at_ratio.correct
+          << "," << r.at_ratio.matches << "\n";
+  }
+
+  std::ofstream md = openFile(dir, "summary.md");
+  md << std::fixed;
+  for (const std::string& scene : scenes) {
+    md << "### " << scene << ": mean PR-AUC\n\n| method |";
+    std::vector<std::string> present;
+    for (const std::string& s : sequences) {
+      if (std::any_of(groups.begin(), groups.end(), [&](const auto& g) {
+            return std::get<0>(g.first) == scene && std::get<1>(g.first) == s;
+          })) {
+        present.push_back(s);
+      }
+    }
+    for (const std::string& s : present) md << " " << s << " |";
+    md << " mean | correct @" << std::setprecision(1) << report_ratio << " | ms/frame |\n|---|";
+    for (size_t i = 0; i < present.size() + 3; ++i) md << "---|";
+    md << "\n";
+    std::map<std::string, double> best;
+    for (const std::string& s : present) {
+      for (const std::string& m : methods) {
+        const auto g = groups.find({scene, s, m});
+        if (g != groups.end()) best[s] = std::max(best[s], g->second.mean([](const PairResult& r) { return r.auc; }));
+      }
+    }
+    for (const std::string& m : methods) {
+      md << "| " << m << " |";
+      double auc_sum = 0.0, correct_sum = 0.0, ms_sum = 0.0;
+      int n = 0;
+      for (const std::string& s : present) {
+        const auto g = groups.find({scene, s, m});
+        if (g == groups.end()) {
+          md << " – |";
+          continue;
+        }
+        const double auc = g->second.mean([](const PairResult& r) { return r.auc; });
+        const bool is_best = auc >= best[s] - 1e-12;
+        md << " " << (is_best ? "**" : "") << std::setprecision(3) << auc << (is_best ? "**" : "") << " |";
+        auc_sum += auc;
+        correct_sum += g->second.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); });
+        ms_sum += g->second.mean([](const PairResult& r) { return r.ms_per_frame; });
+        ++n;
+      }
+      if (n == 0) n = 1;
+      md << " " << std::setprecision(3) << auc_sum / n << " | " << std::setprecision(1) << correct_sum / n << " | "
+         << std::setprecision(1) << ms_sum / n << " |\n";
+    }
+    md << "\n";
+  }
+}
+
+}  // namespace risas::eval

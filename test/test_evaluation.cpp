@@ -1,0 +1,182 @@
+// The evaluation protocol and metrics on hand-made cases with known answers,
+// and risas_evaluate end to end on a rendered sequence.
+#include "risas/errors.hpp"
+#include "risas/evaluation/methods.hpp"
+#include "risas/evaluation/metrics.hpp"
+#include "risas/evaluation/protocol.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace risas::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Metrics, CurveAndAreaOfAHandMadeCase) {
+  // Four positives; by ratio: correct, correct, wrong, correct.
+  const std::vector<Candidate> candidates = {{0.5, true}, {0.1, true}, {0.3, false}, {0.2, true}};
+  const std::vector<PrPoint> curve = prCurve(candidates, 4);
+  ASSERT_EQ(curve.size(), 4u);
+  EXPECT_DOUBLE_EQ(curve[0].ratio, 0.1);
+  EXPECT_DOUBLE_EQ(curve[2].precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(curve[3].recall, 0.75);
+  // 0.25 * 1 + 0.25 * 1 + 0 * 2/3 + 0.25 * 3/4
+  EXPECT_DOUBLE_EQ(prAuc(curve), 0.6875);
+  const PrPoint at = atThreshold(curve, 0.4);
+  EXPECT_EQ(at.matches, 3);
+  EXPECT_EQ(at.correct, 2);
+  EXPECT_DOUBLE_EQ(at.recall, 0.5);
+  EXPECT_EQ(atThreshold(curve, 0.05).matches, 0);
+}
+
+TEST(Metrics, EqualRatiosEnterTogetherAndNoPositivesMeansNoArea) {
+  const std::vector<PrPoint> curve = prCurve({{0.4, true}, {0.4, false}}, 2);
+  ASSERT_EQ(curve.size(), 1u);
+  EXPECT_DOUBLE_EQ(curve[0].precision, 0.5);
+  EXPECT_DOUBLE_EQ(prAuc(curve), 0.25);
+  EXPECT_DOUBLE_EQ(prAuc(prCurve({{0.2, false}}, 0)), 0.0);
+  EXPECT_TRUE(prCurve({}, 3).empty());
+}
+
+TEST(Metrics, CorrectnessUsesTheGroundTruthMotionAndFiveCentimetres) {
+  Eigen::Isometry3d ref_T_query = Eigen::Isometry3d::Identity();
+  ref_T_query.translation() = Eigen::Vector3d(0.1, 0.0, 0.0);
+  EXPECT_TRUE(isCorrect({0.1f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}, ref_T_query, 0.05));
+  EXPECT_TRUE(isCorrect({0.14f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}, ref_T_query, 0.05));
+  EXPECT_FALSE(isCorrect({0.16f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}, ref_T_query, 0.05));
+  EXPECT_FALSE(isCorrect({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 1.0f}, ref_T_query, 0.05));
+}
+
+TEST(Metrics, NearestNeighbourRatiosAndPositives) {
+  // Reference: three descriptors at three places; queries at the same places
+  // (identity motion), the second one closer to the wrong reference.
+  const cv::Mat reference = (cv::Mat_<float>(3, 2) << 0, 0, 10, 0, 0, 10);
+  const cv::Mat query = (cv::Mat_<float>(3, 2) << 1, 0, 6, 0, 0, 30);
+  const std::vector<cv::Point3f> ref_points = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1}};
+  const std::vector<cv::Point3f> query_points = {{0, 0, 1}, {2, 0, 1}, {5, 5, 5}};
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const auto candidates = nearestNeighbourCandidates(query, reference, cv::NORM_L2, query_points, ref_points, I, 0.05);
+  ASSERT_EQ(candidates.size(), 3u);
+  EXPECT_NEAR(candidates[0].ratio, 1.0 / 9.0, 1e-6);  // d(0,0)=1, d(10,0)=9
+  EXPECT_TRUE(candidates[0].correct);
+  EXPECT_NEAR(candidates[1].ratio, 4.0 / 6.0, 1e-6);  // nearest is reference 1 at (1,0,1): wrong place
+  EXPECT_FALSE(candidates[1].correct);
+  EXPECT_FALSE(candidates[2].correct);
+  // Query 2 has no counterpart anywhere: two positives.
+  EXPECT_EQ(countPositives(query_points, ref_points, I, 0.05), 2);
+  EXPECT_THROW(nearestNeighbourCandidates(query, reference, cv::NORM_L2, {}, ref_points, I, 0.05), InputError);
+}
+
+TEST(Protocol, KeypointDepthIsTheMedianOfTheValid3x3) {
+  cv::Mat depth(5, 5, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+  depth.at<float>(1, 1) = 1.0f;
+  depth.at<float>(2, 2) = 2.0f;
+  depth.at<float>(3, 3) = 9.0f;
+  const Intrinsics K(100, 100, 2, 2);
+  EXPECT_FLOAT_EQ(keypointPoint(depth, K, {2.0f, 2.0f}).z, 2.0f);
+  EXPECT_TRUE(std::isnan(keypointPoint(cv::Mat(5, 5, CV_32F, cv::Scalar(std::nanf(""))), K, {2.0f, 2.0f}).z));
+}
+
+TEST(Protocol, UnrotatingAnOnScreenCounterClockwiseTurn) {
+  // 90 degrees counter-clockwise on screen takes the pixel right of the
+  // centre to the one above it; unrotating takes it back.
+  const cv::Point2f back = unrotatePixel({319.5f, 229.5f}, 90.0);
+  EXPECT_NEAR(back.x, 329.5f, 1e-4);
+  EXPECT_NEAR(back.y, 239.5f, 1e-4);
+  const cv::Point2f same = unrotatePixel({100.0f, 50.0f}, 360.0);
+  EXPECT_NEAR(same.x, 100.0f, 1e-3);
+  EXPECT_NEAR(same.y, 50.0f, 1e-3);
+}
+
+TEST(Protocol, ListsPairsOfEverySequenceTypeWithTheirGroundTruth) {
+  const fs::path root = fs::temp_directory_path() / ("risas_eval_layout_" + std::to_string(::getpid()));
+  const auto touch = [&](const fs::path& p, const std::string& text = "x") {
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+  };
+  for (const std::string f : {"rgb_1", "depth_1", "rgb_2", "depth_2", "rgb_3", "depth_3"}) touch(root / "texture/scale" / (f + ".png"));
+  for (int k : {1, 2, 3}) {
+    touch(root / "texture/scale" / ("R1-" + std::to_string(k) + ".txt"), "1 0 0 0 1 0 0 0 1");
+    touch(root / "texture/scale" / ("T1-" + std::to_string(k) + ".txt"), "9 9 9");  // raw, wrong
+    touch(root / "texture/scale/corrected" / ("R1-" + std::to_string(k) + ".txt"), "1 0 0 0 1 0 0 0 1");
+    touch(root / "texture/scale/corrected" / ("T1-" + std::to_string(k) + ".txt"), "0 0 0.1");
+  }
+  for (const std::string f : {"rgb_1", "depth_1", "rgb_1_square", "rgb_1_cube", "rgb_2", "depth_2"}) touch(root / "texture/illum" / (f + ".png"));
+  for (const std::string f : {"rgb_6", "depth_6", "rgb_6_rotate30", "depth_6_rotate30"}) touch(root / "texture/synthetic_rotate" / (f + ".png"));
+
+  const std::vector<Pair> pairs = listPairs(root.string(), {"texture", "geometry"}, evaluatedSequences());
+  std::vector<std::string> labels;
+  for (const Pair& p : pairs) labels.push_back(p.sequence + ":" + p.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"illum:square", "illum:cube", "illum:2", "scale:2", "scale:3",
+                                               "synthetic_rotate:rotate30"}));
+  const Pair& scale3 = pairs[4];
+  EXPECT_NEAR(scale3.ref_T_query.translation().z(), 0.1, 1e-12) << "corrected/ poses come first";
+  EXPECT_EQ(fs::path(pairs[1].query.depth).filename(), "depth_1.png") << "transformed images use depth_1";
+  EXPECT_DOUBLE_EQ(pairs[5].image_rotation_deg, 30.0);
+  EXPECT_EQ(fs::path(pairs[5].reference.rgb).filename(), "rgb_6.png");
+  EXPECT_TRUE(pairs[5].ref_T_query.isApprox(Eigen::Isometry3d::Identity()));
+  fs::remove_all(root);
+}
+
+TEST(Methods, KnowsItsMethodsAndRejectsOthers) {
+  const std::vector<std::string> names = methodNames();
+  EXPECT_NE(std::find(names.begin(), names.end(), "RISAS"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "ORB"), names.end());
+  EXPECT_EQ(makeMethod("ORB", RisasParams())->norm(), cv::NORM_HAMMING);
+  EXPECT_EQ(makeMethod("RISAS", RisasParams())->norm(), cv::NORM_L2);
+  EXPECT_THROW(makeMethod("SURF", RisasParams()), InputError);
+}
+
+// risas_evaluate on three rendered frames in the dataset layout: exact poses,
+// so RISAS must find its correspondences; every report is written.
+TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
+  const fs::path root = fs::temp_directory_path() / ("risas_eval_e2e_" + std::to_string(::getpid()));
+  const fs::path sequence = root / "texture" / "viewchange";
+  const std::string bin = RISAS_BIN_DIR;
+  ASSERT_EQ(std::system((bin + "/risas_render_synthetic --out " + sequence.string() + " --frames 3 --step-deg 4 > /dev/null").c_str()), 0);
+  fs::rename(sequence / "camera-intrinsics.txt", root / "camera-intrinsics.txt");
+  std::string methods = "RISAS,ORB";
+  if (havePcl()) methods += ",RISAS+CSHOT";
+  const fs::path out = root / "out";
+  const std::string log = (root / "log.txt").string();
+  const int status = std::system((bin + "/risas_evaluate --data " + root.string() + " --out " + out.string() +
+                                  " --methods " + methods + " > " + log + " 2>&1").c_str());
+  std::stringstream output;
+  output << std::ifstream(log).rdbuf();
+  ASSERT_EQ(status, 0) << output.str();
+  EXPECT_NE(output.str().find("[2/2] texture/viewchange 3:"), std::string::npos) << output.str();
+  for (const char* file : {"pairs.csv", "curves.csv", "summary.csv", "summary.md", "scale.csv"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+  std::ifstream summary(out / "summary.csv");
+  std::string line;
+  std::getline(summary, line);
+  double risas_auc = -1.0;
+  int rows = 0;
+  while (std::getline(summary, line)) {
+    ++rows;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 10u) << line;
+    EXPECT_EQ(cells[3], "2") << "two pairs per method";
+    if (cells[2] == "RISAS") risas_auc = std::stod(cells[4]);
+  }
+  EXPECT_EQ(rows, havePcl() ? 3 : 2);
+  EXPECT_GT(risas_auc, 0.3) << "RISAS on exact synthetic poses (measured 0.49; random descriptors give about 0)";
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' 2> /dev/null") == 0) {
+    EXPECT_TRUE(fs::exists(out / "pr_texture_viewchange.png")) << output.str();
+  }
+  // Wrong usage and missing data fail clearly.
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + (root / "none").string() + " > /dev/null 2>&1").c_str()), 0);
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace risas::eval
