@@ -126,32 +126,49 @@ TEST(Descriptor, IsDeterministicAndReentrant) {
 }
 
 TEST(Orientation, GammaRuleRejectsShapelessAndPicksTheBranches) {
+  DescriptorParams paper;
+  paper.shape_orientation = true;
   Neighbourhood nb;
   nb.point = Eigen::Vector3d(0.1, 0.05, 1.0);
   nb.intensity_centroid = Eigen::Vector2d(1.0, 0.0);
   const Intrinsics K(500, 500, 320, 240);
   nb.covariance = Eigen::Vector3d(1.0, 0.95, 0.9).asDiagonal();  // a ball: no distinctive shape
-  EXPECT_EQ(dominantOrientation(nb, K, 0.8, 15.0).source, OrientationSource::Rejected);
+  EXPECT_EQ(dominantOrientation(nb, K, paper).source, OrientationSource::Rejected);
   // A disc in the plane x-z (normal along y): e2 ~ e1, d3D = v1 x v2 = +-y.
   nb.covariance = Eigen::Vector3d(1.0, 0.0, 0.9).asDiagonal();
-  Orientation o = dominantOrientation(nb, K, 0.8, 15.0);
+  Orientation o = dominantOrientation(nb, K, paper);
   EXPECT_EQ(o.source, OrientationSource::PatchNormal);
   EXPECT_NEAR(std::abs(std::sin(o.theta)), 1.0, 0.02);  // image v direction
   // An elongated patch along x: d3D = v1 = x, signed towards the intensity mass.
   nb.covariance = Eigen::Vector3d(1.0, 0.1, 0.05).asDiagonal();
-  o = dominantOrientation(nb, K, 0.8, 15.0);
+  o = dominantOrientation(nb, K, paper);
   EXPECT_EQ(o.source, OrientationSource::MajorAxis);
   EXPECT_NEAR(o.theta, 0.0, 0.05);
   nb.intensity_centroid = Eigen::Vector2d(-1.0, 0.0);
-  EXPECT_NEAR(std::abs(dominantOrientation(nb, K, 0.8, 15.0).theta), CV_PI, 0.05);
+  EXPECT_NEAR(std::abs(dominantOrientation(nb, K, paper).theta), CV_PI, 0.05);
   // A disc facing the camera: its normal projects to nothing, the intensity
   // centroid decides.
   nb.point = Eigen::Vector3d(0.0, 0.0, 1.0);
   nb.covariance = Eigen::Vector3d(1.0, 0.9, 0.0).asDiagonal();
   nb.intensity_centroid = Eigen::Vector2d(0.0, 2.0);
-  o = dominantOrientation(nb, K, 0.8, 15.0);
+  o = dominantOrientation(nb, K, paper);
   EXPECT_EQ(o.source, OrientationSource::IntensityCentroid);
   EXPECT_NEAR(o.theta, CV_PI / 2, 1e-9);
+}
+
+TEST(Orientation, ByDefaultThetaIsTheIntensityCentroidAndTheGammaRuleStillRejects) {
+  const DescriptorParams defaults;
+  ASSERT_FALSE(defaults.shape_orientation);
+  Neighbourhood nb;
+  nb.point = Eigen::Vector3d(0.1, 0.05, 1.0);
+  nb.intensity_centroid = Eigen::Vector2d(-1.0, 1.0);
+  const Intrinsics K(500, 500, 320, 240);
+  nb.covariance = Eigen::Vector3d(1.0, 0.1, 0.05).asDiagonal();  // elongated: eq. 7 would say v1
+  const Orientation o = dominantOrientation(nb, K, defaults);
+  EXPECT_EQ(o.source, OrientationSource::IntensityCentroid);
+  EXPECT_NEAR(o.theta, 3.0 * CV_PI / 4.0, 1e-9);
+  nb.covariance = Eigen::Vector3d(1.0, 0.95, 0.9).asDiagonal();
+  EXPECT_EQ(dominantOrientation(nb, K, defaults).source, OrientationSource::Rejected);
 }
 
 }  // namespace

@@ -53,9 +53,11 @@ TEST_F(InvarianceTest, MonotonicIntensityChanges) {
     const CorrespondenceScore s = test::scoreCorrespondences(reference, f, Eigen::Isometry3d::Identity());
     std::cout << "gamma " << g << ": " << s.matched << " / " << s.counterparts << " = " << s.rate() << "\n";
     // Cube and cube root merge dozens of 8-bit levels into ties, which moves
-    // rank groups and corners a little: 0.69 at worst, measured.
+    // rank groups, the rank centroid (theta) and the corners a little: 0.64
+    // at worst, measured (0.70 with the paper's shape orientation, which
+    // matches worse across viewpoints; docs/evaluation.md).
     EXPECT_GT(s.counterparts, 100) << "gamma " << g;
-    EXPECT_GT(s.rate(), 0.65) << "gamma " << g;
+    EXPECT_GT(s.rate(), 0.6) << "gamma " << g;
   }
 }
 
@@ -74,8 +76,9 @@ TEST_F(InvarianceTest, ScaleChangeFromMovingTheCameraBack) {
     const CorrespondenceScore paper = test::scoreCorrespondences(a, b, near.inverse() * far);
     std::cout << "distance x" << factor << ": " << s.matched << " / " << s.counterparts << " = " << s.rate()
               << " (paper's pixel radius: " << paper.rate() << ")\n";
+    // Measured 0.52 and 0.45 (the paper's pixel radius: 0.33 and 0.14).
     EXPECT_GT(s.counterparts, 100) << "x" << factor;
-    EXPECT_GT(s.rate(), 0.45) << "x" << factor;
+    EXPECT_GT(s.rate(), 0.4) << "x" << factor;
     EXPECT_GT(s.rate(), paper.rate() + 0.1) << "x" << factor;
   }
 }

@@ -3,6 +3,7 @@
 
 #include "risas/intrinsics.hpp"
 #include "risas/neighbourhood.hpp"
+#include "risas/params.hpp"
 
 namespace risas {
 
@@ -19,14 +20,17 @@ struct Orientation {
   double theta = 0.0;  // radians, angle of d2D to the image u axis (v pointing down)
 };
 
-// PCA of the kept 3D points (e1 >= e2 >= e3, v1, v2, v3) and eq. 7 give
-// d3D, projected into the image at k_i to d2D. An eigenvector has no sign of
-// its own, so one is chosen deterministically: v1 x v2 faces the camera, v1
-// points to the side of the patch with more intensity mass. When d3D lies
-// within min_projection_angle_deg of the viewing ray (a patch facing the
-// camera) d2D has no stable direction and the intensity centroid, as in ORB,
-// gives theta instead.
-Orientation dominantOrientation(const Neighbourhood& neighbourhood, const Intrinsics& intrinsics, double gamma,
-                                double min_projection_angle_deg);
+// PCA of the kept 3D points (e1 >= e2 >= e3, v1, v2, v3) and eq. 7's gamma
+// rule reject shapeless patches. Otherwise theta comes from
+//  - with params.shape_orientation, the paper: d3D projected into the image
+//    at k_i. An eigenvector has no sign of its own, so one is chosen
+//    deterministically: v1 x v2 faces the camera, v1 points to the side of the
+//    patch with more intensity mass. When d3D lies within
+//    min_projection_angle_deg of the viewing ray (a patch facing the camera)
+//    its projection is noise and the intensity centroid decides;
+//  - without, the rank-weighted intensity centroid (ORB's orientation on
+//    ranks, so monotonic illumination changes cannot turn it).
+Orientation dominantOrientation(const Neighbourhood& neighbourhood, const Intrinsics& intrinsics,
+                                const DescriptorParams& params);
 
 }  // namespace risas

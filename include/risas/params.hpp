@@ -85,8 +85,14 @@ struct DescriptorParams {
   // Reject a keypoint when fewer than this fraction of its disc samples are
   // foreground with a normal (ref: 0.7).
   double min_valid_fraction = 0.5;
-  // Below this angle (deg) between d3D's image projection and the viewing ray
-  // the projected 3D direction is noise; the patch's intensity centroid gives
+  // Where theta comes from. true: the paper's eq. 7, the 3D direction d3D
+  // projected into the image. false: the rank-weighted intensity centroid of
+  // the patch, on which the descriptor was measured to match better across
+  // viewpoints (docs/evaluation.md); eq. 7's gamma rule still rejects
+  // shapeless patches either way.
+  bool shape_orientation = false;
+  // With shape_orientation: below this angle (deg) between d3D and the
+  // viewing ray d3D's projection is noise, and the intensity centroid gives
   // theta instead.
   double min_projection_angle_deg = 15.0;
 

@@ -46,6 +46,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("min_radius_px", p.min_radius_px, 1.0, 1000.0);
   v("max_radius_px", p.max_radius_px, 1.0, 1000.0);
   v("min_valid_fraction", p.min_valid_fraction, 0.0, 1.0);
+  v("shape_orientation", p.shape_orientation);
   v("min_projection_angle_deg", p.min_projection_angle_deg, 0.0, 90.0);
 }
 

@@ -28,7 +28,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       const float R = patchRadius(geometry.points.at<cv::Vec3f>(v, u)[2], scales, params_.support_radius, K);
       const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
       if (!nb) continue;
-      const Orientation orientation = dominantOrientation(*nb, K, params_.gamma, params_.min_projection_angle_deg);
+      const Orientation orientation = dominantOrientation(*nb, K, params_);
       if (orientation.source == OrientationSource::Rejected) continue;
       const float radius = ellipseRadius(*nb, K, params_.min_radius_px, params_.max_radius_px);
       if (!encoder_.encode(frame, geometry, *nb, radius, orientation.theta, rows.ptr<float>(i))) continue;

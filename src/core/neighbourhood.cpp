@@ -99,14 +99,19 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   nb.covariance = nb.spread - mean_offset * mean_offset.transpose();
   // The intensity centroid from ranks, not intensities, so that a monotonic
   // illumination change cannot turn it: sum (rank - mean rank)(q - k).
+  // Tied pixels take the middle rank of their run: a run of equal values
+  // (a dark area that a cube transform flattened) then weighs as it would had
+  // its pixels differed, which keeps the centroid's direction. The mean
+  // middle rank is (n - 1) / 2.
   std::vector<int> rank;
   ranks(intensities, 256, rank);
-  double mean_rank = 0.0;
-  for (int r : rank) mean_rank += r;
-  mean_rank *= inv;
+  std::vector<int> run(256, 0);
+  for (uint16_t v : intensities) ++run[v];
+  const double mean_rank = 0.5 * (nb.kept - 1);
   nb.intensity_centroid.setZero();
   for (size_t i = 0; i < rank.size(); ++i) {
-    nb.intensity_centroid += (rank[i] - mean_rank) * Eigen::Vector2d(offsets[i].x, offsets[i].y);
+    const double mid_rank = rank[i] + 0.5 * (run[intensities[i]] - 1);
+    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offsets[i].x, offsets[i].y);
   }
   return nb;
 }

@@ -19,8 +19,8 @@ double angleOf(const Eigen::Vector2d& d) { return std::atan2(d.y(), d.x()); }
 
 }  // namespace
 
-Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intrinsics, double gamma,
-                                double min_projection_angle_deg) {
+Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intrinsics, const DescriptorParams& params) {
+  const double gamma = params.gamma;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   solver.computeDirect(nb.covariance);  // ascending
   const Eigen::Vector3d e = solver.eigenvalues();
@@ -43,7 +43,7 @@ Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intri
 
   const Eigen::Vector2d& centroid = nb.intensity_centroid;
   const double sin_to_ray = d3d.cross(nb.point.normalized()).norm();
-  if (sin_to_ray < std::sin(min_projection_angle_deg * CV_PI / 180.0)) {
+  if (!params.shape_orientation || sin_to_ray < std::sin(params.min_projection_angle_deg * CV_PI / 180.0)) {
     result.source = OrientationSource::IntensityCentroid;
     result.theta = angleOf(centroid);  // atan2(0, 0) = 0 for a flat patch
     return result;
