@@ -22,6 +22,11 @@ struct GeometryParams {
   double depth_change_factor = 0.02;
   // Fewest valid points a window needs for a normal (ref: 4).
   int min_normal_points = 4;
+  // A normal is fitted at every normal_stride-th pixel in each direction; the
+  // pixels between interpolate the fits around them on their own surface
+  // (neighbouring windows overlap almost entirely), else get their own.
+  // 1: a fit at every pixel.
+  int normal_stride = 2;
 
   void validate() const;
   void write(cv::FileStorage& fs) const;

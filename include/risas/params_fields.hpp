@@ -15,6 +15,7 @@ void visitFields(GeometryParams& p, V&& v) {
   v("normal_radius", p.normal_radius, 1, 50);
   v("depth_change_factor", p.depth_change_factor, 1e-4, 1.0);
   v("min_normal_points", p.min_normal_points, 3, 10000);
+  v("normal_stride", p.normal_stride, 1, 8);
 }
 
 template <class V>

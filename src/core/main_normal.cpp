@@ -8,25 +8,42 @@
 
 namespace risas {
 
-cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) {
-  cv::Vec3i labels;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double angle = std::acos(std::clamp(static_cast<double>(normal[axis]), -1.0, 1.0));
-    labels[axis] = std::min(n_s - 1, static_cast<int>(angle / (CV_PI / n_s)));
+namespace {
+
+// The sector of the angle acos(c) in [0, pi] cut into n_s sectors: acos is
+// decreasing, so it is the number of sector boundaries cos(k pi / n_s),
+// k = 1 .. n_s - 1, that c lies below. No acos per pixel.
+struct SectorBoundaries {
+  std::vector<float> cosines;
+  explicit SectorBoundaries(int n_s) {
+    for (int k = 1; k < n_s; ++k) cosines.push_back(static_cast<float>(std::cos(k * CV_PI / n_s)));
   }
-  return labels;
+  int sector(float c) const {
+    int label = 0;
+    for (float b : cosines) label += c < b;
+    return label;
+  }
+};
+
+cv::Vec3i labelsOf(const cv::Vec3f& normal, const SectorBoundaries& boundaries) {
+  return {boundaries.sector(normal[0]), boundaries.sector(normal[1]), boundaries.sector(normal[2])};
 }
+
+}  // namespace
+
+cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) { return labelsOf(normal, SectorBoundaries(n_s)); }
 
 cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
   CV_Assert(normals.type() == CV_32FC3 && n_s >= 1);
   const auto index = [n_s](const cv::Vec3i& l) { return (l[0] * n_s + l[1]) * n_s + l[2]; };
   std::vector<int> histogram(static_cast<size_t>(n_s * n_s * n_s), 0);
   std::vector<cv::Vec3d> sums(histogram.size(), cv::Vec3d(0, 0, 0));
+  const SectorBoundaries boundaries(n_s);
   for (int r = 0; r < normals.rows; ++r) {
     const cv::Vec3f* n = normals.ptr<cv::Vec3f>(r);
     for (int c = 0; c < normals.cols; ++c) {
       if (n[c][2] == 0.0f) continue;  // no normal
-      const int bin = index(normalLabels(n[c], n_s));
+      const int bin = index(labelsOf(n[c], boundaries));
       ++histogram[bin];
       sums[bin] += cv::Vec3d(n[c][0], n[c][1], n[c][2]);
     }

@@ -1,6 +1,6 @@
 #include "risas/geometry.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -103,23 +103,36 @@ Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v
 }
 
 // Unit normal of the window's points facing the camera, or none.
+//
+// The normal is the eigenvector of the covariance C for its smallest
+// eigenvalue l1. The adjugate adj(C) has the same eigenvectors with
+// eigenvalues l2 l3 >= l1 l3 >= l1 l2, so the normal is adj(C)'s dominant
+// one; for a surface patch (l1 << l2) adj(C) is nearly rank one and its
+// largest column already points along the normal. Two power iterations
+// sharpen it by (l1/l2)^2 each: no trigonometric eigen-solver per pixel.
 bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
   const double inv = 1.0 / m.n;
   const double mx = m.x * inv, my = m.y * inv, mz = m.z * inv;
-  Eigen::Matrix3f cov;
-  cov(0, 0) = static_cast<float>(m.xx * inv - mx * mx);
-  cov(0, 1) = cov(1, 0) = static_cast<float>(m.xy * inv - mx * my);
-  cov(0, 2) = cov(2, 0) = static_cast<float>(m.xz * inv - mx * mz);
-  cov(1, 1) = static_cast<float>(m.yy * inv - my * my);
-  cov(1, 2) = cov(2, 1) = static_cast<float>(m.yz * inv - my * mz);
-  cov(2, 2) = static_cast<float>(m.zz * inv - mz * mz);
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-  solver.computeDirect(cov);  // closed form for 3x3; eigenvalues ascending
-  Eigen::Vector3f n = solver.eigenvectors().col(0);
-  if (!n.allFinite() || n.squaredNorm() < 0.5f) return false;
-  n.normalize();
-  if (n.dot(Eigen::Vector3f(centre[0], centre[1], centre[2])) > 0.0f) n = -n;
-  normal = cv::Vec3f(n.x(), n.y(), n.z());
+  const double a = m.xx * inv - mx * mx, b = m.xy * inv - mx * my, c = m.xz * inv - mx * mz;
+  const double d = m.yy * inv - my * my, e = m.yz * inv - my * mz, f = m.zz * inv - mz * mz;
+  // adj(C) of the symmetric C = [a b c; b d e; c e f]
+  const Eigen::Matrix3d adj = (Eigen::Matrix3d() << d * f - e * e, c * e - b * f, b * e - c * d,  //
+                               c * e - b * f, a * f - c * c, b * c - a * e,                        //
+                               b * e - c * d, b * c - a * e, a * d - b * b)
+                                  .finished();
+  Eigen::Index column = 0;
+  adj.colwise().squaredNorm().maxCoeff(&column);
+  Eigen::Vector3d n = adj.col(column);
+  for (int i = 0; i < 2; ++i) {
+    const double length = n.norm();
+    if (!(length > 0.0) || !std::isfinite(length)) return false;  // collinear or single points
+    n = adj * (n / length);
+  }
+  const double length = n.norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return false;
+  n /= length;
+  if (n.dot(Eigen::Vector3d(centre[0], centre[1], centre[2])) > 0.0) n = -n;
+  normal = cv::Vec3f(static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()));
   return true;
 }
 
@@ -139,20 +152,55 @@ cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params) {
   cv::connectedComponents(interior, surfaces, 4, CV_32S);
 
   const int R = params.normal_radius;
+  const int stride = params.normal_stride;
+  const auto fitAt = [&](int v, int u, cv::Vec3f& normal) {
+    const Moments m = distance.at<float>(v, u) > R
+                          ? integral.box(std::max(v - R, 0), std::max(u - R, 0), std::min(v + R + 1, points.rows),
+                                         std::min(u + R + 1, points.cols))
+                          : sameSurfaceMoments(points, surfaces, v, u, R);
+    return m.n >= params.min_normal_points && fitNormal(m, points.at<cv::Vec3f>(v, u), normal);
+  };
+  // Fits on a grid of every stride-th pixel...
+  const int grid_rows = (points.rows - 1) / stride + 1, grid_cols = (points.cols - 1) / stride + 1;
+  cv::Mat grid(grid_rows, grid_cols, CV_32FC3, cv::Scalar::all(0));
+  cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      for (int j = 0; j < grid_cols; ++j) {
+        if (surfaces.at<int>(i * stride, j * stride) != 0) fitAt(i * stride, j * stride, grid.at<cv::Vec3f>(i, j));
+      }
+    }
+  });
+  // ...and each pixel interpolates bilinearly between the grid fits around it
+  // that lie on its own surface, so normals vary smoothly with position (a
+  // nearest-fit copy would shift them in a pattern fixed to the pixel grid).
+  // A pixel with no such fit around it gets its own.
   cv::Mat normals(points.size(), CV_32FC3, cv::Scalar::all(0));
-  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& rows) {
-    for (int v = rows.start; v < rows.end; ++v) {
-      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-      const float* d = distance.ptr<float>(v);
+  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v) {
+      const int i = v / stride;
+      const float fv = static_cast<float>(v - i * stride) / stride;
       const int* label = surfaces.ptr<int>(v);
       cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
       for (int u = 0; u < points.cols; ++u) {
-        if (label[u] == 0) continue;
-        const Moments m = d[u] > R ? integral.box(std::max(v - R, 0), std::max(u - R, 0),
-                                                  std::min(v + R + 1, points.rows), std::min(u + R + 1, points.cols))
-                                   : sameSurfaceMoments(points, surfaces, v, u, R);
-        if (m.n < params.min_normal_points) continue;
-        fitNormal(m, p[u], n[u]);
+        if (label[u] == 0) continue;  // a surface border: no normal
+        const int j = u / stride;
+        const float fu = static_cast<float>(u - j * stride) / stride;
+        cv::Vec3f sum(0, 0, 0);
+        for (int di = 0; di <= 1; ++di) {
+          for (int dj = 0; dj <= 1; ++dj) {
+            const float w = (di ? fv : 1.0f - fv) * (dj ? fu : 1.0f - fu);
+            const int gi = i + di, gj = j + dj;
+            if (w == 0.0f || gi >= grid_rows || gj >= grid_cols) continue;
+            const cv::Vec3f& g = grid.at<cv::Vec3f>(gi, gj);
+            if (g[2] != 0.0f && surfaces.at<int>(gi * stride, gj * stride) == label[u]) sum += w * g;
+          }
+        }
+        const float length = static_cast<float>(cv::norm(sum));
+        if (length > 1e-3f) {
+          n[u] = sum / length;
+        } else {
+          fitAt(v, u, n[u]);
+        }
       }
     }
   });
