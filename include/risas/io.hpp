@@ -6,10 +6,16 @@
 #include "risas/intrinsics.hpp"
 #include "risas/rgbd_frame.hpp"
 
+#include <Eigen/Core>
+
 #include <string>
 #include <vector>
 
 namespace risas {
+
+// A rows x cols matrix as numbers in text, row by row (the dataset's
+// R1-k.txt and T1-k.txt poses); InputError when unreadable or short.
+Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols);
 
 // A 3x3 camera matrix as nine numbers in text, row by row (the
 // ManipulatorsDataset's camera-intrinsics.txt).

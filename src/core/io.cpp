@@ -10,6 +10,18 @@
 
 namespace risas {
 
+Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open " + path);
+  Eigen::MatrixXd m(rows, cols);
+  for (int i = 0; i < rows * cols; ++i) {
+    if (!(in >> m(i / cols, i % cols))) {
+      throw InputError(path + " is not a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix of numbers");
+    }
+  }
+  return m;
+}
+
 Intrinsics readIntrinsicsFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot open intrinsics file " + path);

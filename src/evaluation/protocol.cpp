@@ -1,11 +1,11 @@
 #include "risas/evaluation/protocol.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/io.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 
 namespace risas::eval {
@@ -13,23 +13,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Eigen::MatrixXd readMatrix(const fs::path& path, int rows, int cols) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open pose file " + path.string());
-  Eigen::MatrixXd m(rows, cols);
-  for (int i = 0; i < rows * cols; ++i) {
-    if (!(in >> m(i / cols, i % cols))) throw InputError("pose file " + path.string() + " is not a " +
-                                                          std::to_string(rows) + "x" + std::to_string(cols) + " matrix");
-  }
-  return m;
-}
-
 // p1 = R pk + t of frame k, from corrected/ if the sequence has it.
 Eigen::Isometry3d readPose(const fs::path& dir, int k) {
   const fs::path poses = fs::exists(dir / "corrected") ? dir / "corrected" : dir;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = readMatrix(poses / ("R1-" + std::to_string(k) + ".txt"), 3, 3);
-  T.translation() = readMatrix(poses / ("T1-" + std::to_string(k) + ".txt"), 3, 1);
+  T.linear() = readMatrixFile((poses / ("R1-" + std::to_string(k) + ".txt")).string(), 3, 3);
+  T.translation() = readMatrixFile((poses / ("T1-" + std::to_string(k) + ".txt")).string(), 3, 1);
   return T;
 }
 

@@ -13,23 +13,10 @@
 #include <Eigen/Geometry>
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
 namespace {
-
-Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
-  std::ifstream in(path);
-  if (!in) throw risas::InputError("cannot open " + path);
-  Eigen::MatrixXd m(rows, cols);
-  for (int i = 0; i < rows * cols; ++i) {
-    if (!(in >> m(i / cols, i % cols))) {
-      throw risas::InputError(path + " must hold " + std::to_string(rows * cols) + " numbers");
-    }
-  }
-  return m;
-}
 
 std::string describeMotion(const Eigen::Isometry3d& T) {
   const Eigen::AngleAxisd aa(T.linear());
@@ -91,8 +78,8 @@ int main(int argc, char** argv) {
 
     if (args.has("gt-rotation") || args.has("gt-translation")) {
       Eigen::Isometry3d gt = Eigen::Isometry3d::Identity();
-      gt.linear() = readMatrixFile(args.get("gt-rotation"), 3, 3);
-      gt.translation() = readMatrixFile(args.get("gt-translation"), 3, 1);
+      gt.linear() = risas::readMatrixFile(args.get("gt-rotation"), 3, 3);
+      gt.translation() = risas::readMatrixFile(args.get("gt-translation"), 3, 1);
       const auto p1 = f1.points(), p2 = f2.points();
       int correct = 0, correct_inliers = 0;
       for (size_t i = 0; i < matches.size(); ++i) {
