@@ -14,7 +14,8 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
                          cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
   if (geometry.points.size() != frame.size()) throw InputError("geometry does not belong to this frame");
   const Intrinsics& K = frame.intrinsics();
-  const ScaleRange scales = frameScaleRange(frame.depth());
+  // s_min and s_max of eq. 4 need the frame's depth range; the metric radius does not.
+  const ScaleRange scales = params_.support_radius > 0.0 ? ScaleRange() : frameScaleRange(frame.depth());
   const int n = static_cast<int>(keypoints.size());
   cv::Mat rows(n, descriptorSize(), CV_32F);
   std::vector<char> described(static_cast<size_t>(n), 0);
