@@ -32,12 +32,18 @@ struct Moments {
   }
 };
 
+// The integral image of the moments. Its storage (about 25 MB at VGA) is one
+// buffer per thread, reused from frame to frame: allocating and zeroing it
+// per frame showed in the profile. Each call still fills it whole, so results
+// never depend on an earlier frame, and a thread computes one frame at a time.
 class MomentIntegral {
  public:
-  explicit MomentIntegral(const cv::Mat& points)
-      : stride_(points.cols + 1), sums_(static_cast<size_t>(points.rows + 1) * stride_) {
+  explicit MomentIntegral(const cv::Mat& points) : stride_(points.cols + 1), sums_(buffer()) {
+    sums_.resize(static_cast<size_t>(points.rows + 1) * stride_);  // grows once, never shrinks
+    std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(stride_), Moments());  // row 0
     for (int v = 0; v < points.rows; ++v) {
       const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      at(v + 1, 0) = Moments();  // column 0
       Moments row;
       for (int u = 0; u < points.cols; ++u) {
         if (!std::isnan(p[u][2])) row.add(p[u]);
@@ -58,11 +64,15 @@ class MomentIntegral {
   }
 
  private:
+  static std::vector<Moments>& buffer() {
+    thread_local std::vector<Moments> storage;
+    return storage;
+  }
   Moments& at(int r, int c) { return sums_[static_cast<size_t>(r) * stride_ + c]; }
   const Moments& at(int r, int c) const { return sums_[static_cast<size_t>(r) * stride_ + c]; }
 
   size_t stride_;
-  std::vector<Moments> sums_;
+  std::vector<Moments>& sums_;
 };
 
 // 0 at pixels with no depth or bordering a different surface (a depth jump to
