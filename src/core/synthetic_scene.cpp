@@ -91,9 +91,22 @@ SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const
   const Eigen::Matrix3d camera_R_world = world_T_camera.linear().transpose();
   const Eigen::Vector3d eye = world_T_camera.translation();
 
-  // Each primitive's local frame, computed once for all rays.
-  std::vector<Eigen::Isometry3d> local_T_world;
-  for (const Primitive& p : primitives_) local_T_world.push_back(p.world_T_local.inverse());
+  // Per primitive, once for all rays: its local frame, the eye in it, and a
+  // bounding sphere (world) that lets most rays skip it with one test.
+  struct Prepared {
+    Eigen::Matrix3d local_R_world;
+    Eigen::Vector3d eye_local;
+    Eigen::Vector3d centre;  // bounding sphere, world
+    double radius2;
+    bool unbounded;          // planes too large to be worth bounding
+  };
+  std::vector<Prepared> prepared;
+  for (const Primitive& p : primitives_) {
+    const Eigen::Isometry3d local_T_world = p.world_T_local.inverse();
+    const double radius = p.half_extents.norm();
+    prepared.push_back({local_T_world.linear(), local_T_world * eye, p.world_T_local.translation(), radius * radius,
+                        p.kind == Primitive::Kind::Plane});
+  }
 
   cv::parallel_for_(cv::Range(0, size.height), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
@@ -103,8 +116,15 @@ SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const
         Hit best;
         for (size_t i = 0; i < primitives_.size(); ++i) {
           const Primitive& p = primitives_[i];
-          const Eigen::Vector3d o = local_T_world[i] * eye;
-          const Eigen::Vector3d d = local_T_world[i].linear() * dir;
+          const Prepared& q = prepared[i];
+          if (!q.unbounded) {
+            // Distance of the sphere's centre from the ray (dir is not unit).
+            const Eigen::Vector3d to_centre = q.centre - eye;
+            const double along = to_centre.dot(dir) / dir.squaredNorm();
+            if (along > 0.0 && (to_centre - along * dir).squaredNorm() > q.radius2) continue;
+          }
+          const Eigen::Vector3d& o = q.eye_local;
+          const Eigen::Vector3d d = q.local_R_world * dir;
           const Eigen::Vector3d& h = p.half_extents;
           Hit hit;
           if (p.kind == Primitive::Kind::Plane) {
