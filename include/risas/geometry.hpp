@@ -25,9 +25,11 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // Normals as PCL's IntegralImageNormalEstimation (COVARIANCE_MATRIX) does
 // them: the covariance of the points in a square window comes from integral
 // images of the point moments in O(1) per pixel, and its smallest eigenvector
-// (closed form) is the normal. The window shrinks near depth jumps so that it
+// (power iteration on its adjugate, no trigonometry) is the normal. A window
 // never mixes two surfaces: near a depth jump it takes only the points of the
 // centre's own surface (PCL uses a depth-change map for the same purpose).
+// Fits are made every params.normal_stride pixels; the pixels between
+// interpolate the fits of their own surface.
 cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params);
 
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);
