@@ -31,6 +31,8 @@ class Detector {
   const DetectorParams& params() const { return params_; }
 
  private:
+  void computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const;
+
   DetectorParams params_;
 };
 

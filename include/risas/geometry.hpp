@@ -19,7 +19,13 @@ struct FrameGeometry {
   bool hasNormal(int row, int col) const { return normals.at<cv::Vec3f>(row, col)[2] != 0.0f; }
 };
 
+// The functions with an output argument reuse its buffers when they already
+// have the size and type (cv::Mat::create): a caller processing a stream
+// keeps one FrameGeometry and avoids ~10 MB of fresh allocations per frame.
+// The output must not share data with anything still in use.
+
 // Back-projects every pixel with fx and fy (the reference used fx for both).
+void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::Mat& points);
 cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 
 // Normals as PCL's IntegralImageNormalEstimation (COVARIANCE_MATRIX) does
@@ -30,8 +36,10 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // centre's own surface (PCL uses a depth-change map for the same purpose).
 // Fits are made every params.normal_stride pixels; the pixels between
 // interpolate the fits of their own surface.
+void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals);
 cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params);
 
+void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry);
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);
 
 }  // namespace risas

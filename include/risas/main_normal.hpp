@@ -21,7 +21,9 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s);
 // that tau weighs two channels of the same range in eq. 1. Pixels without a
 // normal take a Gaussian-weighted mean of their neighbours' P (normalised
 // convolution with sigma, which also smooths P) so depth holes create no
-// artificial gradients. CV_32FC1.
-cv::Mat dotProductImage(const cv::Mat& normals, const cv::Vec3f& n_main, double sigma);
+// artificial gradients. P is formed at half resolution and enlarged (it is
+// smooth, and the normals come from a coarser grid anyway). CV_32FC1 in P,
+// whose buffer is reused when it already has the size and type.
+void dotProductImage(const cv::Mat& normals, const cv::Vec3f& n_main, double sigma, cv::Mat& P);
 
 }  // namespace risas

@@ -44,6 +44,8 @@ class Risas {
                std::vector<KeypointGeometry>* info = nullptr) const;
 
   FrameGeometry computeGeometry(const RgbdFrame& frame) const;
+  // Into geometry, reusing its buffers (see geometry.hpp).
+  void computeGeometry(const RgbdFrame& frame, FrameGeometry& geometry) const;
   const Detector& detector() const { return detector_; }
   const Descriptor& descriptor() const { return descriptor_; }
   const RisasParams& params() const { return params_; }

@@ -11,49 +11,74 @@
 namespace risas {
 namespace {
 
-// Structure tensor entries (Ix^2, Ix Iy, Iy^2) of one channel, unsmoothed.
-struct Gradients {
-  cv::Mat xx, xy, yy;
+// The images one frame's response passes through, one set per thread and
+// reused from frame to frame: a VGA frame needs about 20 MB of them, which
+// allocated afresh per frame cost more in page faults than the filtering.
+struct ResponseBuffers {
+  cv::Mat I, P, gx, gy, px, py, tensor, R, local_max;
 };
 
-Gradients gradientProducts(const cv::Mat& image) {
-  cv::Mat dx, dy;
-  // Sobel scaled by 1/8 is the central difference of a [1 2 1]-smoothed image:
-  // gradients in grey levels per pixel for both channels alike.
+ResponseBuffers& buffers() {
+  thread_local ResponseBuffers b;
+  return b;
+}
+
+// Sobel scaled by 1/8 is the central difference of a [1 2 1]-smoothed image:
+// gradients in grey levels per pixel for both channels alike.
+void gradients(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy) {
   cv::Sobel(image, dx, CV_32F, 1, 0, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
   cv::Sobel(image, dy, CV_32F, 0, 1, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
-  return {dx.mul(dx), dx.mul(dy), dy.mul(dy)};
 }
 
 }  // namespace
 
 Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
 
-cv::Mat Detector::response(const RgbdFrame& frame, const FrameGeometry& geometry) const {
+void Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const {
   if (geometry.normals.size() != frame.size()) throw InputError("geometry does not belong to this frame");
-  const double tau = params_.tau;
+  ResponseBuffers& b = buffers();
+  const float tau = static_cast<float>(params_.tau);
 
-  cv::Mat I;
-  frame.gray().convertTo(I, CV_32F);
-  if (params_.gray_sigma > 0) cv::GaussianBlur(I, I, cv::Size(), params_.gray_sigma, params_.gray_sigma);
+  frame.gray().convertTo(b.I, CV_32F);
+  if (params_.gray_sigma > 0) cv::GaussianBlur(b.I, b.I, cv::Size(), params_.gray_sigma, params_.gray_sigma);
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
-  const cv::Mat P = dotProductImage(geometry.normals, n_main, params_.dp_sigma);
+  dotProductImage(geometry.normals, n_main, params_.dp_sigma, b.P);
 
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
-  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P.
-  const Gradients g = gradientProducts(I);
-  const Gradients h = gradientProducts(P);
-  cv::Mat a, b, c;
-  cv::addWeighted(g.xx, tau, h.xx, 1.0 - tau, 0.0, a);
-  cv::addWeighted(g.xy, tau, h.xy, 1.0 - tau, 0.0, b);
-  cv::addWeighted(g.yy, tau, h.yy, 1.0 - tau, 0.0, c);
+  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P: its three
+  // entries before the window w, as one 3-channel image smoothed in one go.
+  gradients(b.I, b.gx, b.gy);
+  gradients(b.P, b.px, b.py);
+  b.tensor.create(frame.size(), CV_32FC3);
+  for (int v = 0; v < b.tensor.rows; ++v) {
+    const float *gx = b.gx.ptr<float>(v), *gy = b.gy.ptr<float>(v);
+    const float *px = b.px.ptr<float>(v), *py = b.py.ptr<float>(v);
+    float* t = b.tensor.ptr<float>(v);
+    for (int u = 0; u < b.tensor.cols; ++u) {
+      t[3 * u] = tau * gx[u] * gx[u] + (1.0f - tau) * px[u] * px[u];
+      t[3 * u + 1] = tau * gx[u] * gy[u] + (1.0f - tau) * px[u] * py[u];
+      t[3 * u + 2] = tau * gy[u] * gy[u] + (1.0f - tau) * py[u] * py[u];
+    }
+  }
   const double s = params_.window_sigma;
-  cv::GaussianBlur(a, a, cv::Size(), s, s);
-  cv::GaussianBlur(b, b, cv::Size(), s, s);
-  cv::GaussianBlur(c, c, cv::Size(), s, s);
+  cv::GaussianBlur(b.tensor, b.tensor, cv::Size(), s, s);
 
-  cv::Mat trace = a + c;
-  cv::Mat R = a.mul(c) - b.mul(b) - params_.harris_k * trace.mul(trace);
+  // Harris: R = det(M) - k trace(M)^2.
+  const float k = static_cast<float>(params_.harris_k);
+  R.create(frame.size(), CV_32FC1);
+  for (int v = 0; v < R.rows; ++v) {
+    const float* t = b.tensor.ptr<float>(v);
+    float* r = R.ptr<float>(v);
+    for (int u = 0; u < R.cols; ++u) {
+      const float a = t[3 * u], c = t[3 * u + 1], d = t[3 * u + 2];
+      r[u] = a * d - c * c - k * (a + d) * (a + d);
+    }
+  }
+}
+
+cv::Mat Detector::response(const RgbdFrame& frame, const FrameGeometry& geometry) const {
+  cv::Mat R;
+  computeResponse(frame, geometry, R);
   return R;
 }
 
@@ -63,12 +88,14 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   if (!mask.empty() && (mask.size() != frame.size() || mask.type() != CV_8UC1)) {
     throw InputError("detection mask must be CV_8UC1 of the frame's size");
   }
-  const cv::Mat R = response(frame, geometry);
+  ResponseBuffers& buffer = buffers();
+  computeResponse(frame, geometry, buffer.R);
+  const cv::Mat& R = buffer.R;
 
   // Non-maximum suppression: a keypoint is the largest response of its
   // (2 nms_radius + 1)^2 neighbourhood.
   const int w = 2 * params_.nms_radius + 1;
-  cv::Mat local_max;
+  cv::Mat& local_max = buffer.local_max;
   cv::dilate(R, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)));
   double max_response = 0.0;
   cv::minMaxLoc(R, nullptr, &max_response);

@@ -2,9 +2,9 @@
 
 namespace risas {
 
-cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {
+void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::Mat& points) {
   CV_Assert(depth_metres.type() == CV_32FC1);
-  cv::Mat points(depth_metres.size(), CV_32FC3);
+  points.create(depth_metres.size(), CV_32FC3);
   for (int v = 0; v < depth_metres.rows; ++v) {
     const float* z = depth_metres.ptr<float>(v);
     cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
@@ -13,14 +13,29 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {
       p[u] = cv::Vec3f(q.x, q.y, q.z);  // NaN depth gives a NaN point
     }
   }
+}
+
+cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {
+  cv::Mat points;
+  backProject(depth_metres, intrinsics, points);
   return points;
 }
 
-FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params) {
+cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params) {
+  cv::Mat normals;
+  estimateNormals(points, params, normals);
+  return normals;
+}
+
+void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry) {
   params.validate();
+  backProject(frame.depth(), frame.intrinsics(), geometry.points);
+  estimateNormals(geometry.points, params, geometry.normals);
+}
+
+FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params) {
   FrameGeometry geometry;
-  geometry.points = backProject(frame.depth(), frame.intrinsics());
-  geometry.normals = estimateNormals(geometry.points, params);
+  computeGeometry(frame, params, geometry);
   return geometry;
 }
 

@@ -1,10 +1,10 @@
 #include "risas/geometry.hpp"
 
-#include <Eigen/Core>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace risas {
@@ -32,10 +32,10 @@ struct Moments {
   }
 };
 
-// The integral image of the moments. Its storage (about 25 MB at VGA) is one
-// buffer per thread, reused from frame to frame: allocating and zeroing it
-// per frame showed in the profile. Each call still fills it whole, so results
-// never depend on an earlier frame, and a thread computes one frame at a time.
+// The integral image of the moments. Its storage is one buffer per thread,
+// reused from frame to frame: allocating and zeroing it per frame showed in
+// the profile. Each call still fills it whole, so results never depend on an
+// earlier frame, and a thread computes one frame at a time.
 class MomentIntegral {
  public:
   explicit MomentIntegral(const cv::Mat& points) : stride_(points.cols + 1), sums_(buffer()) {
@@ -43,13 +43,14 @@ class MomentIntegral {
     std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(stride_), Moments());  // row 0
     for (int v = 0; v < points.rows; ++v) {
       const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-      at(v + 1, 0) = Moments();  // column 0
+      const Moments* above = &at(v, 0);
+      Moments* cell = &at(v + 1, 0);
+      cell[0] = Moments();  // column 0
       Moments row;
       for (int u = 0; u < points.cols; ++u) {
         if (!std::isnan(p[u][2])) row.add(p[u]);
-        Moments& cell = at(v + 1, u + 1);
-        cell = at(v, u + 1);
-        cell += row;
+        cell[u + 1] = above[u + 1];
+        cell[u + 1] += row;
       }
     }
   }
@@ -75,30 +76,61 @@ class MomentIntegral {
   std::vector<Moments>& sums_;
 };
 
-// 0 at pixels with no depth or bordering a different surface (a depth jump to
-// a 4-neighbour or a missing neighbour, which on Kinect-type sensors is the
-// shadow of a jump), 255 elsewhere: the interiors of surfaces.
-cv::Mat surfaceInteriorMask(const cv::Mat& points, double depth_change_factor) {
-  cv::Mat mask(points.size(), CV_8UC1, cv::Scalar(0));
-  const auto depth = [&](int r, int c) { return points.at<cv::Vec3f>(r, c)[2]; };
-  for (int r = 0; r < points.rows; ++r) {
-    for (int c = 0; c < points.cols; ++c) {
-      const float z = depth(r, c);
-      if (std::isnan(z)) continue;
-      const float limit = static_cast<float>(depth_change_factor) * z;
-      const auto jumps = [&](int rn, int cn) {
-        if (rn < 0 || cn < 0 || rn >= points.rows || cn >= points.cols) return false;
-        const float zn = depth(rn, cn);
-        return std::isnan(zn) || std::abs(zn - z) > limit;
-      };
-      if (!(jumps(r - 1, c) || jumps(r + 1, c) || jumps(r, c - 1) || jumps(r, c + 1))) mask.at<uchar>(r, c) = 255;
+// The grid the normals are fitted on: one point per stride x stride block,
+// the mean of the block's points on the same surface as its first valid one
+// (all the block's points weigh in, so the grid does not alias the depth
+// noise). The grid point (i, j) stands for pixel ((j + 0.5) stride - 0.5,
+// (i + 0.5) stride - 0.5).
+void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv::Mat& grid) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  grid.create(points.rows / stride, points.cols / stride, CV_32FC3);
+  for (int i = 0; i < grid.rows; ++i) {
+    cv::Vec3f* g = grid.ptr<cv::Vec3f>(i);
+    for (int j = 0; j < grid.cols; ++j) {
+      cv::Vec3f sum(0, 0, 0), first(nan, nan, nan);
+      int count = 0;
+      for (int r = i * stride; r < (i + 1) * stride; ++r) {
+        const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
+        for (int c = j * stride; c < (j + 1) * stride; ++c) {
+          if (std::isnan(p[c][2])) continue;
+          if (count == 0) first = p[c];
+          if (std::abs(p[c][2] - first[2]) > depth_change_factor * first[2]) continue;
+          sum += p[c];
+          ++count;
+        }
+      }
+      g[j] = count ? sum * (1.0f / count) : first;
     }
   }
-  return mask;
+}
+
+// 0 at points with no depth or bordering a different surface (a depth jump to
+// a 4-neighbour or a missing neighbour, which on Kinect-type sensors is the
+// shadow of a jump), 255 elsewhere: the interiors of surfaces.
+void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::Mat& mask) {
+  mask.create(points.size(), CV_8UC1);
+  const int rows = points.rows, cols = points.cols;
+  for (int r = 0; r < rows; ++r) {
+    const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
+    const cv::Vec3f* above = points.ptr<cv::Vec3f>(std::max(r - 1, 0));
+    const cv::Vec3f* below = points.ptr<cv::Vec3f>(std::min(r + 1, rows - 1));
+    uchar* m = mask.ptr<uchar>(r);
+    for (int c = 0; c < cols; ++c) {
+      const float z = p[c][2];
+      const float limit = depth_change_factor * z;
+      // NaN compares false: a missing neighbour fails the test, as does a
+      // missing centre. Outside the image counts as the centre itself.
+      const auto same = [&](float zn) { return std::abs(zn - z) <= limit; };
+      m[c] = same(above[c][2]) && same(below[c][2]) && same(p[std::max(c - 1, 0)][2]) &&
+                     same(p[std::min(c + 1, cols - 1)][2])
+                 ? 255
+                 : 0;
+    }
+  }
 }
 
 // Moments of the window's points on the same surface as its centre: the
-// O(window) path for pixels near a jump, where a plain box would mix surfaces.
+// O(window) path for points near a jump, where a plain box would mix surfaces.
 Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius) {
   Moments m;
   const int label = surfaces.at<int>(v, u);
@@ -120,101 +152,167 @@ Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v
 // one; for a surface patch (l1 << l2) adj(C) is nearly rank one and its
 // largest column already points along the normal. Two power iterations
 // sharpen it by (l1/l2)^2 each: no trigonometric eigen-solver per pixel.
+// (Unnormalised in between: the entries are products of variances, far
+// from double's range limits.)
 bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
   const double inv = 1.0 / m.n;
   const double mx = m.x * inv, my = m.y * inv, mz = m.z * inv;
   const double a = m.xx * inv - mx * mx, b = m.xy * inv - mx * my, c = m.xz * inv - mx * mz;
   const double d = m.yy * inv - my * my, e = m.yz * inv - my * mz, f = m.zz * inv - mz * mz;
-  // adj(C) of the symmetric C = [a b c; b d e; c e f]
-  const Eigen::Matrix3d adj = (Eigen::Matrix3d() << d * f - e * e, c * e - b * f, b * e - c * d,  //
-                               c * e - b * f, a * f - c * c, b * c - a * e,                        //
-                               b * e - c * d, b * c - a * e, a * d - b * b)
-                                  .finished();
-  Eigen::Index column = 0;
-  adj.colwise().squaredNorm().maxCoeff(&column);
-  Eigen::Vector3d n = adj.col(column);
-  for (int i = 0; i < 2; ++i) {
-    const double length = n.norm();
-    if (!(length > 0.0) || !std::isfinite(length)) return false;  // collinear or single points
-    n = adj * (n / length);
+  // adj(C) of the symmetric C = [a b c; b d e; c e f], itself symmetric
+  const double A00 = d * f - e * e, A01 = c * e - b * f, A02 = b * e - c * d;
+  const double A11 = a * f - c * c, A12 = b * c - a * e, A22 = a * d - b * b;
+  const double l0 = A00 * A00 + A01 * A01 + A02 * A02;
+  const double l1 = A01 * A01 + A11 * A11 + A12 * A12;
+  const double l2 = A02 * A02 + A12 * A12 + A22 * A22;
+  double x, y, z;
+  if (l0 >= l1 && l0 >= l2) {
+    x = A00, y = A01, z = A02;
+  } else if (l1 >= l2) {
+    x = A01, y = A11, z = A12;
+  } else {
+    x = A02, y = A12, z = A22;
   }
-  const double length = n.norm();
-  if (!(length > 0.0) || !std::isfinite(length)) return false;
-  n /= length;
-  if (n.dot(Eigen::Vector3d(centre[0], centre[1], centre[2])) > 0.0) n = -n;
-  normal = cv::Vec3f(static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()));
+  for (int i = 0; i < 2; ++i) {
+    const double nx = A00 * x + A01 * y + A02 * z;
+    const double ny = A01 * x + A11 * y + A12 * z;
+    const double nz = A02 * x + A12 * y + A22 * z;
+    x = nx, y = ny, z = nz;
+  }
+  const double length = std::sqrt(x * x + y * y + z * z);
+  if (!(length > 0.0) || !std::isfinite(length)) return false;  // collinear or single points
+  double scale = 1.0 / length;
+  if (x * centre[0] + y * centre[1] + z * centre[2] > 0.0) scale = -scale;
+  normal = cv::Vec3f(static_cast<float>(x * scale), static_cast<float>(y * scale), static_cast<float>(z * scale));
   return true;
+}
+
+// The images of one frame's normals, one set per thread and reused from frame
+// to frame: allocated afresh, their page faults cost as much as the fits.
+struct NormalBuffers {
+  cv::Mat grid_points, grid_normals, interior, distance, surfaces;
+};
+
+NormalBuffers& buffers() {
+  thread_local NormalBuffers b;
+  return b;
+}
+
+// Normals fitted at every point of a (grid) cloud, windows of half-width
+// radius; (0, 0, 0) where none.
+void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, int min_points, cv::Mat& normals) {
+  const MomentIntegral integral(points);
+  NormalBuffers& b = buffers();
+  const cv::Mat& interior = b.interior;
+  surfaceInteriorMask(points, depth_change_factor, b.interior);
+  // Chessboard distance to the nearest surface border: a window of that
+  // half-width holds one surface only, and its box sum is O(1).
+  cv::Mat& distance = b.distance;
+  cv::Mat& surfaces = b.surfaces;
+  cv::distanceTransform(interior, distance, cv::DIST_C, 3);
+  // Closer to a border, the window keeps its size but takes only the points of
+  // the centre's own surface: the connected part of the interior it lies in.
+  // Border points themselves (label 0) get no normal.
+  cv::connectedComponents(interior, surfaces, 4, CV_32S);
+
+  normals.create(points.size(), CV_32FC3);
+  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v) {
+      const int* label = surfaces.ptr<int>(v);
+      const float* clear = distance.ptr<float>(v);
+      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < points.cols; ++u) {
+        n[u] = cv::Vec3f(0, 0, 0);
+        if (label[u] == 0) continue;
+        const Moments m = clear[u] > radius ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
+                                                           std::min(v + radius + 1, points.rows),
+                                                           std::min(u + radius + 1, points.cols))
+                                            : sameSurfaceMoments(points, surfaces, v, u, radius);
+        if (m.n >= min_points) fitNormal(m, p[u], n[u]);
+      }
+    }
+  });
+}
+
+// Full-resolution normals from the grid's: each pixel interpolates bilinearly
+// between the grid fits around it that lie on its own surface (no depth jump
+// between them), so normals vary smoothly with position; a nearest-fit copy
+// would shift them in a pattern fixed to the pixel grid. The pixel's own
+// grid cell's fits weigh in even at weight 0 (a small floor), so a pixel on a
+// grid line whose fit is missing takes its neighbours'.
+void interpolateNormals(const cv::Mat& points, const cv::Mat& grid_points, const cv::Mat& grid_normals, int stride,
+                        float depth_change_factor, cv::Mat& normals) {
+  // Where a pixel lies on the grid: the cell k to its upper left and the
+  // fraction f of the way to the next, clamped at the edges. The same for
+  // every row and every column, so tabulated once.
+  struct Cell {
+    int k, k1;
+    float f;
+  };
+  const auto cells = [stride](int pixels, int grid_size) {
+    std::vector<Cell> table(static_cast<size_t>(pixels));
+    for (int x = 0; x < pixels; ++x) {
+      const float g = std::clamp((x + 0.5f) / stride - 0.5f, 0.0f, static_cast<float>(grid_size - 1));
+      const int k = std::min(static_cast<int>(g), std::max(grid_size - 2, 0));
+      table[static_cast<size_t>(x)] = {k, std::min(k + 1, grid_size - 1), g - k};
+    }
+    return table;
+  };
+  const std::vector<Cell> row_cells = cells(points.rows, grid_points.rows);
+  const std::vector<Cell> col_cells = cells(points.cols, grid_points.cols);
+  const float limit_factor = depth_change_factor * stride;
+  constexpr float kFloor = 1e-3f;
+
+  normals.create(points.size(), CV_32FC3);
+  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v) {
+      const Cell& rc = row_cells[static_cast<size_t>(v)];
+      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      const cv::Vec3f* gp0 = grid_points.ptr<cv::Vec3f>(rc.k);
+      const cv::Vec3f* gp1 = grid_points.ptr<cv::Vec3f>(rc.k1);
+      const cv::Vec3f* gn0 = grid_normals.ptr<cv::Vec3f>(rc.k);
+      const cv::Vec3f* gn1 = grid_normals.ptr<cv::Vec3f>(rc.k1);
+      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < points.cols; ++u) {
+        n[u] = cv::Vec3f(0, 0, 0);
+        const float z = p[u][2];
+        if (std::isnan(z)) continue;
+        const Cell& cc = col_cells[static_cast<size_t>(u)];
+        const float limit = limit_factor * z;
+        // A grid fit counts if it exists (z != 0) and lies on the pixel's surface.
+        const auto weight = [&](const cv::Vec3f* gp, const cv::Vec3f* gn, int k, float w) {
+          return gn[k][2] != 0.0f && std::abs(gp[k][2] - z) <= limit ? std::max(w, kFloor) : 0.0f;
+        };
+        const float w00 = weight(gp0, gn0, cc.k, (1.0f - rc.f) * (1.0f - cc.f));
+        const float w01 = weight(gp0, gn0, cc.k1, (1.0f - rc.f) * cc.f);
+        const float w10 = weight(gp1, gn1, cc.k, rc.f * (1.0f - cc.f));
+        const float w11 = weight(gp1, gn1, cc.k1, rc.f * cc.f);
+        const cv::Vec3f sum = w00 * gn0[cc.k] + w01 * gn0[cc.k1] + w10 * gn1[cc.k] + w11 * gn1[cc.k1];
+        const float length2 = sum.dot(sum);
+        if (length2 > 1e-8f) n[u] = sum * (1.0f / std::sqrt(length2));
+      }
+    }
+  });
 }
 
 }  // namespace
 
-cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params) {
+void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals) {
   CV_Assert(points.type() == CV_32FC3);
-  const MomentIntegral integral(points);
-  const cv::Mat interior = surfaceInteriorMask(points, params.depth_change_factor);
-  // Chessboard distance to the nearest surface border: a window of that
-  // half-width holds one surface only, and its box sum is O(1).
-  cv::Mat distance, surfaces;
-  cv::distanceTransform(interior, distance, cv::DIST_C, 3);
-  // Closer to a border, the window keeps its size but takes only the points of
-  // the centre's own surface: the connected part of the interior it lies in.
-  // Border pixels themselves (label 0) get no normal.
-  cv::connectedComponents(interior, surfaces, 4, CV_32S);
-
-  const int R = params.normal_radius;
   const int stride = params.normal_stride;
-  const auto fitAt = [&](int v, int u, cv::Vec3f& normal) {
-    const Moments m = distance.at<float>(v, u) > R
-                          ? integral.box(std::max(v - R, 0), std::max(u - R, 0), std::min(v + R + 1, points.rows),
-                                         std::min(u + R + 1, points.cols))
-                          : sameSurfaceMoments(points, surfaces, v, u, R);
-    return m.n >= params.min_normal_points && fitNormal(m, points.at<cv::Vec3f>(v, u), normal);
-  };
-  // Fits on a grid of every stride-th pixel...
-  const int grid_rows = (points.rows - 1) / stride + 1, grid_cols = (points.cols - 1) / stride + 1;
-  cv::Mat grid(grid_rows, grid_cols, CV_32FC3, cv::Scalar::all(0));
-  cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
-      for (int j = 0; j < grid_cols; ++j) {
-        if (surfaces.at<int>(i * stride, j * stride) != 0) fitAt(i * stride, j * stride, grid.at<cv::Vec3f>(i, j));
-      }
-    }
-  });
-  // ...and each pixel interpolates bilinearly between the grid fits around it
-  // that lie on its own surface, so normals vary smoothly with position (a
-  // nearest-fit copy would shift them in a pattern fixed to the pixel grid).
-  // A pixel with no such fit around it gets its own.
-  cv::Mat normals(points.size(), CV_32FC3, cv::Scalar::all(0));
-  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
-    for (int v = range.start; v < range.end; ++v) {
-      const int i = v / stride;
-      const float fv = static_cast<float>(v - i * stride) / stride;
-      const int* label = surfaces.ptr<int>(v);
-      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
-      for (int u = 0; u < points.cols; ++u) {
-        if (label[u] == 0) continue;  // a surface border: no normal
-        const int j = u / stride;
-        const float fu = static_cast<float>(u - j * stride) / stride;
-        cv::Vec3f sum(0, 0, 0);
-        for (int di = 0; di <= 1; ++di) {
-          for (int dj = 0; dj <= 1; ++dj) {
-            const float w = (di ? fv : 1.0f - fv) * (dj ? fu : 1.0f - fu);
-            const int gi = i + di, gj = j + dj;
-            if (w == 0.0f || gi >= grid_rows || gj >= grid_cols) continue;
-            const cv::Vec3f& g = grid.at<cv::Vec3f>(gi, gj);
-            if (g[2] != 0.0f && surfaces.at<int>(gi * stride, gj * stride) == label[u]) sum += w * g;
-          }
-        }
-        const float length = static_cast<float>(cv::norm(sum));
-        if (length > 1e-3f) {
-          n[u] = sum / length;
-        } else {
-          fitAt(v, u, n[u]);
-        }
-      }
-    }
-  });
-  return normals;
+  // On the grid, a jump is measured over stride pixels and the window holds
+  // the grid points within normal_radius pixels of the centre.
+  const float factor = static_cast<float>(params.depth_change_factor);
+  const int grid_radius = std::max(1, (params.normal_radius + stride - 1) / stride);
+  if (stride == 1) {
+    fitNormals(points, grid_radius, factor, params.min_normal_points, normals);
+    return;
+  }
+  NormalBuffers& b = buffers();
+  gridPoints(points, stride, factor, b.grid_points);
+  fitNormals(b.grid_points, grid_radius, factor * stride, params.min_normal_points, b.grid_normals);
+  interpolateNormals(points, b.grid_points, b.grid_normals, stride, factor, normals);
 }
 
 }  // namespace risas

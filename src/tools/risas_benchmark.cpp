@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
       risas::FrameGeometry geometry;
       std::vector<cv::KeyPoint> keypoints, described;
       cv::Mat descriptors;
-      geometry_ms += timeMs(repeats, [&] { geometry = risas->computeGeometry(frame); });
+      geometry_ms += timeMs(repeats, [&] { risas->computeGeometry(frame, geometry); });
       detector_ms += timeMs(repeats, [&] { risas->detector().detect(frame, geometry, keypoints); });
       descriptor_ms += timeMs(repeats, [&] {
         described = keypoints;
