@@ -7,13 +7,14 @@
 
 namespace risas {
 
-// Rank of each value: how many values lie strictly below it, so equal values
-// share a rank. Values must lie in [0, levels). O(count + levels).
-void ranks(const std::vector<uint16_t>& values, int levels, std::vector<int>& out);
+// The rank of every level from the histogram of the values: below[v] = how
+// many values lie strictly below v, so equal values share a rank.
+// histogram and below hold `levels` entries. O(levels), whatever the count.
+void ranksBelow(const int* histogram, int levels, int* below);
 
 // Ranks cut into `groups` groups of equal size: group = rank * groups / count.
-// (Giving ties their run's middle rank instead was measured worse under the
-// paper's intensity transforms.)
+// Values must lie in [0, levels). (Giving ties their run's middle rank
+// instead was measured worse under the paper's intensity transforms.)
 void rankGroups(const std::vector<uint16_t>& values, int levels, int groups, std::vector<uint8_t>& labels);
 
 }  // namespace risas

@@ -37,12 +37,14 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   const float rho_bar = static_cast<float>(params_.rho_threshold);
   constexpr int kRhoLevels = 256;
 
-  std::vector<int> sectors;
-  std::vector<uint16_t> intensities;
-  std::vector<float> rhos;
-  sectors.reserve(disc_.size());
-  intensities.reserve(disc_.size());
-  rhos.reserve(disc_.size());
+  // The counted samples, in per-thread buffers reused across keypoints.
+  struct Sample {
+    uint8_t sector, intensity;
+    uint16_t rho_level;  // kRhoLevels for a flat sample (rho >= rho-bar)
+  };
+  thread_local std::vector<Sample> samples;
+  samples.clear();
+  int intensity_count[256] = {}, rho_count[kRhoLevels] = {};
   for (const DiscSample& s : disc_) {
     // Patch x axis along theta, y axis 90 degrees on (image v points down).
     const float x = cu + cos_t * s.i - sin_t * s.j;
@@ -60,31 +62,40 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
     const uchar* row0 = gray.ptr<uchar>(v0);
     const uchar* row1 = gray.ptr<uchar>(v0 + 1);
     const float intensity = (1 - b) * ((1 - a) * row0[u0] + a * row0[u0 + 1]) + b * ((1 - a) * row1[u0] + a * row1[u0 + 1]);
+    const uint8_t level = static_cast<uint8_t>(intensity + 0.5f);  // rounded; intensity is in [0, 255]
 
-    sectors.push_back(s.sector);
-    intensities.push_back(static_cast<uint16_t>(std::lround(intensity)));
-    rhos.push_back(std::abs(n_k.dot(n)));
+    // Shape: the flat majority (rho >= rho-bar) is one label; the rest are
+    // ranked on kRhoLevels levels of rho / rho-bar.
+    const float rho = std::abs(n_k.dot(n));
+    const uint16_t rho_level =
+        rho >= rho_bar ? kRhoLevels : static_cast<uint16_t>(std::min(kRhoLevels - 1, static_cast<int>(rho / rho_bar * kRhoLevels)));
+    samples.push_back({static_cast<uint8_t>(s.sector), level, rho_level});
+    ++intensity_count[level];
+    if (rho_level < kRhoLevels) ++rho_count[rho_level];
   }
-  if (sectors.size() < params_.min_valid_fraction * disc_.size() || sectors.size() < 3) return false;
+  const int counted = static_cast<int>(samples.size());
+  if (counted < params_.min_valid_fraction * disc_.size() || counted < 3) return false;
 
-  std::vector<uint8_t> intensity_labels;
-  rankGroups(intensities, 256, params_.n_bin, intensity_labels);
-
-  // Shape labels: the flat majority (rho >= rho-bar) is label n_vec; the rest
-  // are ranked and split into n_vec groups.
-  std::vector<uint16_t> curved;
-  for (float rho : rhos) {
-    if (rho < rho_bar) curved.push_back(static_cast<uint16_t>(std::min(kRhoLevels - 1, static_cast<int>(rho / rho_bar * kRhoLevels))));
-  }
-  std::vector<uint8_t> curved_labels;
-  rankGroups(curved, kRhoLevels, params_.n_vec, curved_labels);
+  // Rank groups by counting sort: a sample's group depends only on its
+  // level, so each level's group is tabulated once.
+  int below[256];
+  const auto groupTable = [&below](const int* histogram, int levels, int groups, uint8_t* table) {
+    int total = 0;
+    for (int l = 0; l < levels; ++l) total += histogram[l];
+    ranksBelow(histogram, levels, below);
+    for (int l = 0; l < levels; ++l) {
+      table[l] = total ? static_cast<uint8_t>(static_cast<int64_t>(below[l]) * groups / total) : 0;
+    }
+  };
+  uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
+  groupTable(intensity_count, 256, params_.n_bin, intensity_label);
+  groupTable(rho_count, kRhoLevels, params_.n_vec, shape_label);
+  shape_label[kRhoLevels] = static_cast<uint8_t>(params_.n_vec);
 
   const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
   std::fill(out, out + dimension(), 0.0f);
-  size_t next_curved = 0;
-  for (size_t i = 0; i < sectors.size(); ++i) {
-    const int shape = rhos[i] >= rho_bar ? params_.n_vec : curved_labels[next_curved++];
-    ++out[(sectors[i] * n_bin + intensity_labels[i]) * n_shape + shape];
+  for (const Sample& sample : samples) {
+    ++out[(sample.sector * n_bin + intensity_label[sample.intensity]) * n_shape + shape_label[sample.rho_level]];
   }
   float norm = 0.0f;
   for (int d = 0; d < dimension(); ++d) norm += out[d] * out[d];

@@ -66,52 +66,57 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   nb.initial_radius_px = initial_radius_px;
 
   const int radius = static_cast<int>(std::ceil(initial_radius_px));
-  const double t2 = background_distance * background_distance;
+  const float t2 = static_cast<float>(background_distance * background_distance);
   const float r2 = initial_radius_px * initial_radius_px;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d sum_outer = Eigen::Matrix3d::Zero();
-  std::vector<uint16_t> intensities;
-  std::vector<cv::Point> offsets;
-  for (int dv = -radius; dv <= radius; ++dv) {
-    const int v = v0 + dv;
-    if (v < 0 || v >= size.height) continue;
-    const cv::Vec3f* p = geometry.points.ptr<cv::Vec3f>(v);
-    const uchar* gray = frame.gray().ptr<uchar>(v);
-    for (int du = -radius; du <= radius; ++du) {
-      const int u = u0 + du;
-      if (u < 0 || u >= size.width || static_cast<float>(du * du + dv * dv) > r2) continue;
-      if (std::isnan(p[u][2])) continue;
-      const Eigen::Vector3d q(p[u][0], p[u][1], p[u][2]);
-      const Eigen::Vector3d d = q - nb.point;
-      if (d.squaredNorm() >= t2) continue;  // eq. 5: background
-      ++nb.kept;
-      sum += d;
-      sum_outer += d * d.transpose();
-      intensities.push_back(gray[u]);
-      offsets.emplace_back(du, dv);
+  const cv::Vec3f& k_f = geometry.points.at<cv::Vec3f>(v0, u0);
+  // Offsets from k_i are centimetres: float sums of a few thousand of them
+  // keep far more precision than the depth has.
+  float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+  // Per grey level: how many kept pixels have it, and the sum of their image
+  // offsets. The rank-weighted centroid below needs nothing more.
+  int count[256] = {};
+  int offset_u[256] = {}, offset_v[256] = {};
+  for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
+    const float row_r2 = r2 - static_cast<float>(dv * dv);
+    if (row_r2 < 0.0f) continue;
+    const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
+    const cv::Vec3f* p = geometry.points.ptr<cv::Vec3f>(v0 + dv);
+    const uchar* gray = frame.gray().ptr<uchar>(v0 + dv);
+    for (int u = std::max(u0 - half, 0); u <= std::min(u0 + half, size.width - 1); ++u) {
+      const float dx = p[u][0] - k_f[0], dy = p[u][1] - k_f[1], dz = p[u][2] - k_f[2];
+      // eq. 5: background beyond t (a NaN point compares false and is dropped)
+      if (!(dx * dx + dy * dy + dz * dz < t2)) continue;
+      sx += dx; sy += dy; sz += dz;
+      sxx += dx * dx; sxy += dx * dy; sxz += dx * dz; syy += dy * dy; syz += dy * dz; szz += dz * dz;
+      const uchar g = gray[u];
+      ++count[g];
+      offset_u[g] += u - u0;
+      offset_v[g] += dv;
     }
   }
+  for (int g = 0; g < 256; ++g) nb.kept += count[g];
   if (nb.kept < 3) return std::nullopt;
   const double inv = 1.0 / nb.kept;
-  const Eigen::Vector3d mean_offset = sum * inv;
+  const Eigen::Vector3d mean_offset = Eigen::Vector3d(sx, sy, sz) * inv;
   nb.centroid = nb.point + mean_offset;
-  nb.spread = sum_outer * inv;
+  nb.spread << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+  nb.spread *= inv;
   nb.covariance = nb.spread - mean_offset * mean_offset.transpose();
   // The intensity centroid from ranks, not intensities, so that a monotonic
   // illumination change cannot turn it: sum (rank - mean rank)(q - k).
   // Tied pixels take the middle rank of their run: a run of equal values
   // (a dark area that a cube transform flattened) then weighs as it would had
   // its pixels differed, which keeps the centroid's direction. The mean
-  // middle rank is (n - 1) / 2.
-  std::vector<int> rank;
-  ranks(intensities, 256, rank);
-  std::vector<int> run(256, 0);
-  for (uint16_t v : intensities) ++run[v];
+  // middle rank is (n - 1) / 2. All pixels of one grey level share a rank,
+  // so the sum runs over levels.
+  int below[256];
+  ranksBelow(count, 256, below);
   const double mean_rank = 0.5 * (nb.kept - 1);
   nb.intensity_centroid.setZero();
-  for (size_t i = 0; i < rank.size(); ++i) {
-    const double mid_rank = rank[i] + 0.5 * (run[intensities[i]] - 1);
-    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offsets[i].x, offsets[i].y);
+  for (int g = 0; g < 256; ++g) {
+    if (count[g] == 0) continue;
+    const double mid_rank = below[g] + 0.5 * (count[g] - 1);
+    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offset_u[g], offset_v[g]);
   }
   return nb;
 }
