@@ -83,7 +83,8 @@ struct DescriptorParams {
   // are background and eliminated.
   double background_distance = 0.1;
   // The rotated patch is resampled to a disc of this radius (ref: 20 -> 41x41).
-  int patch_radius = 20;
+  // 14 (29x29) costs half the samples at a mean PR-AUC within 0.003 of 20's.
+  int patch_radius = 14;
   // Patch radius bounds in image pixels (ref: fall back above 50 px).
   double min_radius_px = 6.0;
   double max_radius_px = 50.0;

@@ -130,17 +130,26 @@ void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::M
 }
 
 // Moments of the window's points on the same surface as its centre: the
-// O(window) path for points near a jump, where a plain box would mix surfaces.
+// O(window) path for points near a jump, where a plain box would mix
+// surfaces. Taken about the centre (the covariance does not change), where
+// the offsets are centimetres and float sums are exact enough.
 Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius) {
-  Moments m;
   const int label = surfaces.at<int>(v, u);
+  const cv::Vec3f centre = points.at<cv::Vec3f>(v, u);
+  float n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (int r = std::max(v - radius, 0); r <= std::min(v + radius, points.rows - 1); ++r) {
     const int* l = surfaces.ptr<int>(r);
     const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
     for (int c = std::max(u - radius, 0); c <= std::min(u + radius, points.cols - 1); ++c) {
-      if (l[c] == label) m.add(p[c]);
+      if (l[c] != label) continue;
+      const float dx = p[c][0] - centre[0], dy = p[c][1] - centre[1], dz = p[c][2] - centre[2];
+      n += 1; x += dx; y += dy; z += dz;
+      xx += dx * dx; xy += dx * dy; xz += dx * dz; yy += dy * dy; yz += dy * dz; zz += dz * dz;
     }
   }
+  Moments m;
+  m.n = n; m.x = x; m.y = y; m.z = z;
+  m.xx = xx; m.xy = xy; m.xz = xz; m.yy = yy; m.yz = yz; m.zz = zz;
   return m;
 }
 
@@ -190,7 +199,7 @@ bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
 // The images of one frame's normals, one set per thread and reused from frame
 // to frame: allocated afresh, their page faults cost as much as the fits.
 struct NormalBuffers {
-  cv::Mat grid_points, grid_normals, interior, distance, surfaces;
+  cv::Mat grid_points, grid_normals, interior, clear, surfaces;
 };
 
 NormalBuffers& buffers() {
@@ -205,11 +214,12 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
   NormalBuffers& b = buffers();
   const cv::Mat& interior = b.interior;
   surfaceInteriorMask(points, depth_change_factor, b.interior);
-  // Chessboard distance to the nearest surface border: a window of that
-  // half-width holds one surface only, and its box sum is O(1).
-  cv::Mat& distance = b.distance;
+  // Interior points whose whole window is interior: the window holds one
+  // surface only, and its box sum is O(1).
+  cv::Mat& clear = b.clear;
   cv::Mat& surfaces = b.surfaces;
-  cv::distanceTransform(interior, distance, cv::DIST_C, 3);
+  cv::erode(interior, clear, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)),
+            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(255));
   // Closer to a border, the window keeps its size but takes only the points of
   // the centre's own surface: the connected part of the interior it lies in.
   // Border points themselves (label 0) get no normal.
@@ -219,13 +229,13 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
   cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
     for (int v = range.start; v < range.end; ++v) {
       const int* label = surfaces.ptr<int>(v);
-      const float* clear = distance.ptr<float>(v);
+      const uchar* whole = clear.ptr<uchar>(v);
       const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
       cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
       for (int u = 0; u < points.cols; ++u) {
         n[u] = cv::Vec3f(0, 0, 0);
         if (label[u] == 0) continue;
-        const Moments m = clear[u] > radius ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
+        const Moments m = whole[u] ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
                                                            std::min(v + radius + 1, points.rows),
                                                            std::min(u + radius + 1, points.cols))
                                             : sameSurfaceMoments(points, surfaces, v, u, radius);
