@@ -34,8 +34,9 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // (power iteration on its adjugate, no trigonometry) is the normal. A window
 // never mixes two surfaces: near a depth jump it takes only the points of the
 // centre's own surface (PCL uses a depth-change map for the same purpose).
-// Fits are made every params.normal_stride pixels; the pixels between
-// interpolate the fits of their own surface.
+// The fits run on a grid of normal_stride x normal_stride block means (the
+// window holds the grid points within normal_radius pixels); every pixel
+// interpolates the fits around it on its own surface.
 void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals);
 cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params);
 

@@ -22,10 +22,10 @@ struct GeometryParams {
   double depth_change_factor = 0.02;
   // Fewest valid points a window needs for a normal (ref: 4).
   int min_normal_points = 4;
-  // A normal is fitted at every normal_stride-th pixel in each direction; the
-  // pixels between interpolate the fits around them on their own surface
-  // (neighbouring windows overlap almost entirely), else get their own.
-  // 1: a fit at every pixel.
+  // Normals are fitted on a grid of normal_stride x normal_stride blocks,
+  // each the mean of its points on one surface, and every pixel interpolates
+  // the fits around it on its own surface (neighbouring windows overlap
+  // almost entirely). 1: a fit at every pixel.
   int normal_stride = 2;
 
   void validate() const;
