@@ -12,6 +12,11 @@ namespace risas {
 // histogram and below hold `levels` entries. O(levels), whatever the count.
 void ranksBelow(const int* histogram, int levels, int* below);
 
+// The rank group of every level from the histogram of the values:
+// table[v] = below[v] * groups / count, `groups` groups of equal size.
+// histogram and table hold `levels` entries.
+void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table);
+
 // Ranks cut into `groups` groups of equal size: group = rank * groups / count.
 // Values must lie in [0, levels). (Giving ties their run's middle rank
 // instead was measured worse under the paper's intensity transforms.)

@@ -78,18 +78,9 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
 
   // Rank groups by counting sort: a sample's group depends only on its
   // level, so each level's group is tabulated once.
-  int below[256];
-  const auto groupTable = [&below](const int* histogram, int levels, int groups, uint8_t* table) {
-    int total = 0;
-    for (int l = 0; l < levels; ++l) total += histogram[l];
-    ranksBelow(histogram, levels, below);
-    for (int l = 0; l < levels; ++l) {
-      table[l] = total ? static_cast<uint8_t>(static_cast<int64_t>(below[l]) * groups / total) : 0;
-    }
-  };
   uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
-  groupTable(intensity_count, 256, params_.n_bin, intensity_label);
-  groupTable(rho_count, kRhoLevels, params_.n_vec, shape_label);
+  rankGroupTable(intensity_count, 256, params_.n_bin, intensity_label);
+  rankGroupTable(rho_count, kRhoLevels, params_.n_vec, shape_label);
   shape_label[kRhoLevels] = static_cast<uint8_t>(params_.n_vec);
 
   const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;

@@ -12,18 +12,28 @@ void ranksBelow(const int* histogram, int levels, int* below) {
   }
 }
 
+void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table) {
+  int64_t total = 0;
+  for (int v = 0; v < levels; ++v) total += histogram[v];
+  // The running count is ranksBelow's, kept inline so that the descriptor's
+  // per-keypoint call allocates nothing.
+  int64_t below = 0;
+  for (int v = 0; v < levels; ++v) {
+    table[v] = total ? static_cast<uint8_t>(below * groups / total) : 0;
+    below += histogram[v];
+  }
+}
+
 void rankGroups(const std::vector<uint16_t>& values, int levels, int groups, std::vector<uint8_t>& labels) {
-  std::vector<int> histogram(static_cast<size_t>(levels), 0), below(static_cast<size_t>(levels));
+  std::vector<int> histogram(static_cast<size_t>(levels), 0);
   for (uint16_t v : values) {
     CV_Assert(v < levels);
     ++histogram[v];
   }
-  ranksBelow(histogram.data(), levels, below.data());
+  std::vector<uint8_t> table(static_cast<size_t>(levels));
+  rankGroupTable(histogram.data(), levels, groups, table.data());
   labels.resize(values.size());
-  const int64_t n = static_cast<int64_t>(values.size());
-  for (size_t i = 0; i < values.size(); ++i) {
-    labels[i] = static_cast<uint8_t>(static_cast<int64_t>(below[values[i]]) * groups / n);
-  }
+  for (size_t i = 0; i < values.size(); ++i) labels[i] = table[values[i]];
 }
 
 }  // namespace risas
