@@ -20,7 +20,7 @@ double shareWithin(const FrameGeometry& g, const SyntheticRender& truth, double 
     for (int c = 0; c < truth.normals.cols; ++c) {
       if (!g.hasNormal(r, c)) continue;
       ++total;
-      good += angleDeg(g.normals.at<cv::Vec3f>(r, c), truth.normals.at<cv::Vec3f>(r, c)) <= max_deg;
+      good += angleDeg(g.normal(r, c), truth.normals.at<cv::Vec3f>(r, c)) <= max_deg;
     }
   }
   if (counted) *counted = total;
@@ -51,7 +51,7 @@ TEST(Geometry, SlantedPlaneNormalsWithinTwoDegreesOfMillimetreDepth) {
   EXPECT_GT(shareWithin(g, truth, 1.0), 0.95);
   EXPECT_GT(counted, 0.95 * 640 * 480);
   // Facing the camera: n . p < 0 everywhere.
-  const cv::Vec3f n = g.normals.at<cv::Vec3f>(240, 320), p = g.points.at<cv::Vec3f>(240, 320);
+  const cv::Vec3f n = g.normal(240, 320), p = g.points.at<cv::Vec3f>(240, 320);
   EXPECT_LT(n.dot(p), 0.0f);
 }
 
@@ -98,7 +98,7 @@ TEST(Geometry, NormalsDoNotMixSurfacesAcrossADepthJump) {
       }
       if (!jump || !flat) continue;
       ++near_jump;
-      good += angleDeg(g.normals.at<cv::Vec3f>(r, c), trueNormal(r, c)) <= 2.0;
+      good += angleDeg(g.normal(r, c), trueNormal(r, c)) <= 2.0;
     }
   }
   EXPECT_GT(near_jump, 2000);
@@ -113,7 +113,7 @@ TEST(Geometry, PixelsWithoutDepthHaveNoNormal) {
   EXPECT_FALSE(g.hasPoint(12, 22));
   EXPECT_FALSE(g.hasNormal(12, 22));
   EXPECT_TRUE(g.hasNormal(40, 50));
-  EXPECT_LT(angleDeg(g.normals.at<cv::Vec3f>(40, 50), cv::Vec3f(0, 0, -1)), 0.5);
+  EXPECT_LT(angleDeg(g.normal(40, 50), cv::Vec3f(0, 0, -1)), 0.5);
 }
 
 }  // namespace

@@ -12,11 +12,25 @@
 namespace risas {
 
 struct FrameGeometry {
-  cv::Mat points;   // CV_32FC3, metres, camera optical frame; NaN where depth is missing
-  cv::Mat normals;  // CV_32FC3, unit, facing the camera (n . p < 0); (0,0,0) where none
+  cv::Mat points;  // CV_32FC3, metres, camera optical frame; NaN where depth is missing
+
+  // The normals are fitted once per block of normal_stride x normal_stride
+  // pixels (GeometryParams::normal_stride), at the mean of the block's points
+  // on one surface: neighbouring pixels share almost all of their window, so
+  // a fit per pixel would repeat the same normal. A pixel's normal is its
+  // block's, if the pixel lies on the surface the block's fit belongs to.
+  int normal_stride = 1;
+  cv::Mat normals;           // CV_32FC3 per block, unit, facing the camera (n . p < 0); (0,0,0) where none
+  cv::Mat on_block_surface;  // CV_8UC1 per pixel: 255 where the pixel lies on its block's surface
 
   bool hasPoint(int row, int col) const { return !std::isnan(points.at<cv::Vec3f>(row, col)[2]); }
-  bool hasNormal(int row, int col) const { return normals.at<cv::Vec3f>(row, col)[2] != 0.0f; }
+  // The normal of pixel (row, col): (0, 0, 0) unless hasNormal.
+  const cv::Vec3f& normal(int row, int col) const {
+    return normals.at<cv::Vec3f>(row / normal_stride, col / normal_stride);
+  }
+  bool hasNormal(int row, int col) const {
+    return on_block_surface.at<uchar>(row, col) != 0 && normal(row, col)[2] != 0.0f;
+  }
 };
 
 // The functions with an output argument reuse its buffers when they already
@@ -35,10 +49,10 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // never mixes two surfaces: near a depth jump it takes only the points of the
 // centre's own surface (PCL uses a depth-change map for the same purpose).
 // The fits run on a grid of normal_stride x normal_stride block means (the
-// window holds the grid points within normal_radius pixels); every pixel
-// interpolates the fits around it on its own surface.
-void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals);
-cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params);
+// window holds the grid points within normal_radius pixels): normals has one
+// per block, on_block_surface marks the pixels each belongs to (see
+// FrameGeometry).
+void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals, cv::Mat& on_block_surface);
 
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry);
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);

@@ -1,6 +1,8 @@
 // Paper III-A steps 2-4: the main normal of a frame and the dot-product image.
 #pragma once
 
+#include "risas/geometry.hpp"
+
 #include <opencv2/core.hpp>
 
 namespace risas {
@@ -10,7 +12,8 @@ namespace risas {
 // (paper: n = [1,1,1]/sqrt(3) -> 54.7 deg each -> labels [2,2,2] 1-based).
 cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s);
 
-// The most frequent label triple over all pixels with a normal defines
+// The most frequent label triple over all normals (of the blocks, see
+// FrameGeometry) defines
 // n_main. The paper leaves open how labels become a vector; the reference took
 // the sector edges, which is not a unit vector. Here n_main is the mean of the
 // normals carrying the most frequent triple: inside that triple's sectors,
@@ -21,9 +24,9 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s);
 // that tau weighs two channels of the same range in eq. 1. Pixels without a
 // normal take a Gaussian-weighted mean of their neighbours' P (normalised
 // convolution with sigma, which also smooths P) so depth holes create no
-// artificial gradients. P is formed at half resolution and enlarged (it is
-// smooth, and the normals come from a coarser grid anyway). CV_32FC1 in P,
-// whose buffer is reused when it already has the size and type.
-void dotProductImage(const cv::Mat& normals, const cv::Vec3f& n_main, double sigma, cv::Mat& P);
+// artificial gradients. P is formed on the normals' grid and enlarged to the
+// frame (it is smooth). CV_32FC1 in P, whose buffer is reused when it
+// already has the size and type.
+void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& P);
 
 }  // namespace risas

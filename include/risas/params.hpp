@@ -23,9 +23,9 @@ struct GeometryParams {
   // Fewest valid points a window needs for a normal (ref: 4).
   int min_normal_points = 4;
   // Normals are fitted on a grid of normal_stride x normal_stride blocks,
-  // each the mean of its points on one surface, and every pixel interpolates
-  // the fits around it on its own surface (neighbouring windows overlap
-  // almost entirely). 1: a fit at every pixel.
+  // each the mean of its points on one surface, and a pixel on that surface
+  // takes its block's normal (neighbouring windows overlap almost
+  // entirely). 1: a fit at every pixel.
   int normal_stride = 2;
 
   void validate() const;

@@ -35,14 +35,14 @@ void gradients(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy) {
 Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
 
 void Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const {
-  if (geometry.normals.size() != frame.size()) throw InputError("geometry does not belong to this frame");
+  if (geometry.points.size() != frame.size()) throw InputError("geometry does not belong to this frame");
   ResponseBuffers& b = buffers();
   const float tau = static_cast<float>(params_.tau);
 
   frame.gray().convertTo(b.I, CV_32F);
   if (params_.gray_sigma > 0) cv::GaussianBlur(b.I, b.I, cv::Size(), params_.gray_sigma, params_.gray_sigma);
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
-  dotProductImage(geometry.normals, n_main, params_.dp_sigma, b.P);
+  dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
 
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
   // expansion is the structure tensor M = tau M_I + (1 - tau) M_P: its three

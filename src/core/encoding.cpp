@@ -52,8 +52,8 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
     if (!(x >= 0.0f && y >= 0.0f && x <= max_u && y <= max_v)) continue;
     const int u = cvRound(x), v = cvRound(y);
     const cv::Vec3f& p = geometry.points.at<cv::Vec3f>(v, u);
-    const cv::Vec3f& n = geometry.normals.at<cv::Vec3f>(v, u);
-    if (std::isnan(p[2]) || n[2] == 0.0f) continue;
+    if (!geometry.hasNormal(v, u)) continue;  // also no point
+    const cv::Vec3f& n = geometry.normal(v, u);
     const cv::Vec3f d = p - k;
     if (d.dot(d) >= t2) continue;  // background (eq. 5)
 

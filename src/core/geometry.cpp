@@ -26,16 +26,11 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {
   return points;
 }
 
-cv::Mat estimateNormals(const cv::Mat& points, const GeometryParams& params) {
-  cv::Mat normals;
-  estimateNormals(points, params, normals);
-  return normals;
-}
-
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry) {
   params.validate();
   backProject(frame.depth(), frame.intrinsics(), geometry.points);
-  estimateNormals(geometry.points, params, geometry.normals);
+  geometry.normal_stride = params.normal_stride;
+  estimateNormals(geometry.points, params, geometry.normals, geometry.on_block_surface);
 }
 
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params) {

@@ -60,7 +60,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   Neighbourhood nb;
   nb.centre = keypoint;
   const cv::Vec3f k = geometry.points.at<cv::Vec3f>(v0, u0);
-  const cv::Vec3f n = geometry.normals.at<cv::Vec3f>(v0, u0);
+  const cv::Vec3f n = geometry.normal(v0, u0);
   nb.point = Eigen::Vector3d(k[0], k[1], k[2]);
   nb.normal = Eigen::Vector3d(n[0], n[1], n[2]);
   nb.initial_radius_px = initial_radius_px;

@@ -76,25 +76,31 @@ class MomentIntegral {
   std::vector<Moments>& sums_;
 };
 
-// The grid the normals are fitted on: one point per stride x stride block,
-// the mean of the block's points on the same surface as its first valid one
-// (all the block's points weigh in, so the grid does not alias the depth
-// noise). The grid point (i, j) stands for pixel ((j + 0.5) stride - 0.5,
-// (i + 0.5) stride - 0.5).
-void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv::Mat& grid) {
+// The grid the normals are fitted on: one point per stride x stride block
+// (partial blocks at the right and bottom edges), the mean of the block's
+// points on the same surface as its first valid one. All of those points
+// weigh in, so the grid does not alias the depth noise. on_surface marks them:
+// they are the pixels the block's normal belongs to.
+void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv::Mat& grid, cv::Mat& on_surface) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  grid.create(points.rows / stride, points.cols / stride, CV_32FC3);
+  grid.create((points.rows + stride - 1) / stride, (points.cols + stride - 1) / stride, CV_32FC3);
+  on_surface.create(points.size(), CV_8UC1);
   for (int i = 0; i < grid.rows; ++i) {
     cv::Vec3f* g = grid.ptr<cv::Vec3f>(i);
+    const int r_end = std::min((i + 1) * stride, points.rows);
     for (int j = 0; j < grid.cols; ++j) {
+      const int c_end = std::min((j + 1) * stride, points.cols);
       cv::Vec3f sum(0, 0, 0), first(nan, nan, nan);
       int count = 0;
-      for (int r = i * stride; r < (i + 1) * stride; ++r) {
+      for (int r = i * stride; r < r_end; ++r) {
         const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-        for (int c = j * stride; c < (j + 1) * stride; ++c) {
+        uchar* on = on_surface.ptr<uchar>(r);
+        for (int c = j * stride; c < c_end; ++c) {
+          on[c] = 0;
           if (std::isnan(p[c][2])) continue;
           if (count == 0) first = p[c];
           if (std::abs(p[c][2] - first[2]) > depth_change_factor * first[2]) continue;
+          on[c] = 255;
           sum += p[c];
           ++count;
         }
@@ -199,7 +205,7 @@ bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
 // The images of one frame's normals, one set per thread and reused from frame
 // to frame: allocated afresh, their page faults cost as much as the fits.
 struct NormalBuffers {
-  cv::Mat grid_points, grid_normals, interior, clear, surfaces;
+  cv::Mat grid_points, interior, clear, surfaces;
 };
 
 NormalBuffers& buffers() {
@@ -245,84 +251,18 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
   });
 }
 
-// Full-resolution normals from the grid's: each pixel interpolates bilinearly
-// between the grid fits around it that lie on its own surface (no depth jump
-// between them), so normals vary smoothly with position; a nearest-fit copy
-// would shift them in a pattern fixed to the pixel grid. The pixel's own
-// grid cell's fits weigh in even at weight 0 (a small floor), so a pixel on a
-// grid line whose fit is missing takes its neighbours'.
-void interpolateNormals(const cv::Mat& points, const cv::Mat& grid_points, const cv::Mat& grid_normals, int stride,
-                        float depth_change_factor, cv::Mat& normals) {
-  // Where a pixel lies on the grid: the cell k to its upper left and the
-  // fraction f of the way to the next, clamped at the edges. The same for
-  // every row and every column, so tabulated once.
-  struct Cell {
-    int k, k1;
-    float f;
-  };
-  const auto cells = [stride](int pixels, int grid_size) {
-    std::vector<Cell> table(static_cast<size_t>(pixels));
-    for (int x = 0; x < pixels; ++x) {
-      const float g = std::clamp((x + 0.5f) / stride - 0.5f, 0.0f, static_cast<float>(grid_size - 1));
-      const int k = std::min(static_cast<int>(g), std::max(grid_size - 2, 0));
-      table[static_cast<size_t>(x)] = {k, std::min(k + 1, grid_size - 1), g - k};
-    }
-    return table;
-  };
-  const std::vector<Cell> row_cells = cells(points.rows, grid_points.rows);
-  const std::vector<Cell> col_cells = cells(points.cols, grid_points.cols);
-  const float limit_factor = depth_change_factor * stride;
-  constexpr float kFloor = 1e-3f;
-
-  normals.create(points.size(), CV_32FC3);
-  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
-    for (int v = range.start; v < range.end; ++v) {
-      const Cell& rc = row_cells[static_cast<size_t>(v)];
-      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-      const cv::Vec3f* gp0 = grid_points.ptr<cv::Vec3f>(rc.k);
-      const cv::Vec3f* gp1 = grid_points.ptr<cv::Vec3f>(rc.k1);
-      const cv::Vec3f* gn0 = grid_normals.ptr<cv::Vec3f>(rc.k);
-      const cv::Vec3f* gn1 = grid_normals.ptr<cv::Vec3f>(rc.k1);
-      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
-      for (int u = 0; u < points.cols; ++u) {
-        n[u] = cv::Vec3f(0, 0, 0);
-        const float z = p[u][2];
-        if (std::isnan(z)) continue;
-        const Cell& cc = col_cells[static_cast<size_t>(u)];
-        const float limit = limit_factor * z;
-        // A grid fit counts if it exists (z != 0) and lies on the pixel's surface.
-        const auto weight = [&](const cv::Vec3f* gp, const cv::Vec3f* gn, int k, float w) {
-          return gn[k][2] != 0.0f && std::abs(gp[k][2] - z) <= limit ? std::max(w, kFloor) : 0.0f;
-        };
-        const float w00 = weight(gp0, gn0, cc.k, (1.0f - rc.f) * (1.0f - cc.f));
-        const float w01 = weight(gp0, gn0, cc.k1, (1.0f - rc.f) * cc.f);
-        const float w10 = weight(gp1, gn1, cc.k, rc.f * (1.0f - cc.f));
-        const float w11 = weight(gp1, gn1, cc.k1, rc.f * cc.f);
-        const cv::Vec3f sum = w00 * gn0[cc.k] + w01 * gn0[cc.k1] + w10 * gn1[cc.k] + w11 * gn1[cc.k1];
-        const float length2 = sum.dot(sum);
-        if (length2 > 1e-8f) n[u] = sum * (1.0f / std::sqrt(length2));
-      }
-    }
-  });
-}
-
 }  // namespace
 
-void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals) {
+void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals, cv::Mat& on_block_surface) {
   CV_Assert(points.type() == CV_32FC3);
   const int stride = params.normal_stride;
   // On the grid, a jump is measured over stride pixels and the window holds
   // the grid points within normal_radius pixels of the centre.
   const float factor = static_cast<float>(params.depth_change_factor);
   const int grid_radius = std::max(1, (params.normal_radius + stride - 1) / stride);
-  if (stride == 1) {
-    fitNormals(points, grid_radius, factor, params.min_normal_points, normals);
-    return;
-  }
   NormalBuffers& b = buffers();
-  gridPoints(points, stride, factor, b.grid_points);
-  fitNormals(b.grid_points, grid_radius, factor * stride, params.min_normal_points, b.grid_normals);
-  interpolateNormals(points, b.grid_points, b.grid_normals, stride, factor, normals);
+  gridPoints(points, stride, factor, b.grid_points, on_block_surface);
+  fitNormals(b.grid_points, grid_radius, factor * stride, params.min_normal_points, normals);
 }
 
 }  // namespace risas
