@@ -38,24 +38,26 @@ struct Moments {
 // earlier frame, and a thread computes one frame at a time.
 class MomentIntegral {
  public:
-  explicit MomentIntegral(const cv::Mat& points) : stride_(points.cols + 1), sums_(buffer()) {
+  // Sums the points where mask is non-zero.
+  MomentIntegral(const cv::Mat& points, const cv::Mat& mask) : stride_(points.cols + 1), sums_(buffer()) {
     sums_.resize(static_cast<size_t>(points.rows + 1) * stride_);  // grows once, never shrinks
     std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(stride_), Moments());  // row 0
     for (int v = 0; v < points.rows; ++v) {
       const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      const uchar* m = mask.ptr<uchar>(v);
       const Moments* above = &at(v, 0);
       Moments* cell = &at(v + 1, 0);
       cell[0] = Moments();  // column 0
       Moments row;
       for (int u = 0; u < points.cols; ++u) {
-        if (!std::isnan(p[u][2])) row.add(p[u]);
+        if (m[u]) row.add(p[u]);
         cell[u + 1] = above[u + 1];
         cell[u + 1] += row;
       }
     }
   }
 
-  // Moments of the valid points in rows [r0, r1) and columns [c0, c1).
+  // Moments of the summed points in rows [r0, r1) and columns [c0, c1).
   Moments box(int r0, int c0, int r1, int c1) const {
     Moments m = at(r1, c1);
     m -= at(r0, c1);
@@ -205,7 +207,7 @@ bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
 // The images of one frame's normals, one set per thread and reused from frame
 // to frame: allocated afresh, their page faults cost as much as the fits.
 struct NormalBuffers {
-  cv::Mat grid_points, interior, clear, surfaces;
+  cv::Mat grid_points, interior, surfaces, labels_low, labels_high, window_low, window_high;
 };
 
 NormalBuffers& buffers() {
@@ -213,35 +215,56 @@ NormalBuffers& buffers() {
   return b;
 }
 
+// Per point, whether its window holds one surface only: the largest and the
+// smallest non-zero label in the window agree. labels_low and labels_high
+// are the labels as float (exact below 2^24) with the border's 0 replaced by
+// a value that never wins the window's minimum and maximum respectively.
+void windowsOnOneSurface(const cv::Mat& surfaces, int radius, NormalBuffers& b) {
+  b.labels_low.create(surfaces.size(), CV_32FC1);
+  b.labels_high.create(surfaces.size(), CV_32FC1);
+  for (int v = 0; v < surfaces.rows; ++v) {
+    const int* label = surfaces.ptr<int>(v);
+    float* low = b.labels_low.ptr<float>(v);
+    float* high = b.labels_high.ptr<float>(v);
+    for (int u = 0; u < surfaces.cols; ++u) {
+      high[u] = static_cast<float>(label[u]);
+      low[u] = label[u] ? high[u] : std::numeric_limits<float>::max();
+    }
+  }
+  const cv::Mat window = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
+  cv::erode(b.labels_low, b.window_low, window, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  cv::dilate(b.labels_high, b.window_high, window, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+}
+
 // Normals fitted at every point of a (grid) cloud, windows of half-width
 // radius; (0, 0, 0) where none.
 void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, int min_points, cv::Mat& normals) {
-  const MomentIntegral integral(points);
   NormalBuffers& b = buffers();
   const cv::Mat& interior = b.interior;
   surfaceInteriorMask(points, depth_change_factor, b.interior);
-  // Interior points whose whole window is interior: the window holds one
-  // surface only, and its box sum is O(1).
-  cv::Mat& clear = b.clear;
+  // A window takes only the points of the centre's own surface: the
+  // connected part of the interior it lies in. Border points themselves
+  // (label 0) get no normal and count in no window.
   cv::Mat& surfaces = b.surfaces;
-  cv::erode(interior, clear, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)),
-            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(255));
-  // Closer to a border, the window keeps its size but takes only the points of
-  // the centre's own surface: the connected part of the interior it lies in.
-  // Border points themselves (label 0) get no normal.
   cv::connectedComponents(interior, surfaces, 4, CV_32S);
+  // Where the window reaches no other surface, its own surface's points are
+  // all its interior points: a box sum of the interior's moments, O(1).
+  // Only windows across a jump (two labels) need the O(window) sum.
+  const MomentIntegral integral(points, interior);
+  windowsOnOneSurface(surfaces, radius, b);
 
   normals.create(points.size(), CV_32FC3);
   cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
     for (int v = range.start; v < range.end; ++v) {
       const int* label = surfaces.ptr<int>(v);
-      const uchar* whole = clear.ptr<uchar>(v);
+      const float* low = b.window_low.ptr<float>(v);
+      const float* high = b.window_high.ptr<float>(v);
       const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
       cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
       for (int u = 0; u < points.cols; ++u) {
         n[u] = cv::Vec3f(0, 0, 0);
         if (label[u] == 0) continue;
-        const Moments m = whole[u] ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
+        const Moments m = low[u] == high[u] ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
                                                            std::min(v + radius + 1, points.rows),
                                                            std::min(u + radius + 1, points.cols))
                                             : sameSurfaceMoments(points, surfaces, v, u, radius);
