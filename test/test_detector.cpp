@@ -193,6 +193,27 @@ TEST(Detector, CapsTheCountAndSpreadsOverTheGrid) {
   EXPECT_GE(cells.size(), 8u);
 }
 
+TEST(Detector, SameResponseAndKeypointsOnAnyNumberOfThreads) {
+  // The response is filtered in horizontal stripes, one per thread: the
+  // stripes' borders must not show in it.
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  const cv::Mat single = Detector().response(frame, g);
+  std::vector<cv::KeyPoint> expected, keypoints;
+  Detector().detect(frame, g, expected);
+  for (int n : {2, 3, 5}) {
+    cv::setNumThreads(n);
+    EXPECT_EQ(cv::norm(Detector().response(frame, g), single, cv::NORM_INF), 0.0) << n << " threads";
+    Detector().detect(frame, g, keypoints);
+    ASSERT_EQ(keypoints.size(), expected.size()) << n << " threads";
+    for (size_t i = 0; i < keypoints.size(); ++i) EXPECT_EQ(keypoints[i].pt, expected[i].pt);
+  }
+  cv::setNumThreads(threads);
+  EXPECT_GT(expected.size(), 100u);
+}
+
 TEST(Detector, RespectsTheMask) {
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   const FrameGeometry g = computeGeometry(frame, GeometryParams());

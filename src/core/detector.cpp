@@ -15,7 +15,8 @@ namespace {
 // reused from frame to frame: a VGA frame needs about 20 MB of them, which
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
-  cv::Mat I, P, gx, gy, px, py, tensor, R, local_max;
+  cv::Mat raw, I, P, R, local_max;
+  cv::Mat tensor[3], window[3];  // the entries xx, xy, yy of eq. 1's structure tensor, one plane each
 };
 
 ResponseBuffers& buffers() {
@@ -23,11 +24,62 @@ ResponseBuffers& buffers() {
   return b;
 }
 
-// Sobel scaled by 1/8 is the central difference of a [1 2 1]-smoothed image:
-// gradients in grey levels per pixel for both channels alike.
-void gradients(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy) {
-  cv::Sobel(image, dx, CV_32F, 1, 0, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
-  cv::Sobel(image, dy, CV_32F, 0, 1, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
+// Runs stage(rows) over horizontal stripes of an image of `rows` rows, in
+// parallel. A filter applied to a stripe (a ROI) reads the rows beyond it
+// from the whole image, and the border rule applies only at the image's
+// edges, so the stripes give the very image one call would; each stage ends
+// before the next begins, so a stage may read all of the previous one.
+template <class Stage>
+void inStripes(int rows, Stage&& stage) {
+  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& stripe) { stage(stripe); },
+                    std::max(1, cv::getNumThreads()));
+}
+
+// The Gaussian kernel truncated at 3 sigma, as OpenCV itself does for 8-bit
+// images (its float default, 4 sigma, adds taps of < 0.3 % of the weight).
+cv::Size gaussianSize(double sigma) {
+  const int k = 2 * cvCeil(3.0 * sigma) + 1;
+  return {k, k};
+}
+
+// Row v of the Sobel derivatives scaled by 1/8, the central differences of a
+// [1 2 1]-smoothed image (grey levels per pixel for both channels alike),
+// replicated at the edges. Written out, unlike cv::Sobel, so the tensor
+// entries are formed from the rows without four intermediate images.
+void sobelRow(const cv::Mat& image, int v, float* __restrict dx, float* __restrict dy) {
+  const int cols = image.cols;
+  const float* __restrict a0 = image.ptr<float>(std::max(v - 1, 0));
+  const float* __restrict a1 = image.ptr<float>(v);
+  const float* __restrict a2 = image.ptr<float>(std::min(v + 1, image.rows - 1));
+  const auto at = [&](int u) {
+    const int l = std::max(u - 1, 0), r = std::min(u + 1, cols - 1);
+    dx[u] = 0.125f * ((a0[r] - a0[l]) + 2.0f * (a1[r] - a1[l]) + (a2[r] - a2[l]));
+    dy[u] = 0.125f * ((a2[l] + 2.0f * a2[u] + a2[r]) - (a0[l] + 2.0f * a0[u] + a0[r]));
+  };
+  at(0);
+  for (int u = 1; u < cols - 1; ++u) {  // the same as at(u), without the clamps: vectorised
+    dx[u] = 0.125f * ((a0[u + 1] - a0[u - 1]) + 2.0f * (a1[u + 1] - a1[u - 1]) + (a2[u + 1] - a2[u - 1]));
+    dy[u] = 0.125f * ((a2[u - 1] + 2.0f * a2[u] + a2[u + 1]) - (a0[u - 1] + 2.0f * a0[u] + a0[u + 1]));
+  }
+  if (cols > 1) at(cols - 1);
+}
+
+// One row of eq. 1's structure tensor before the window, tau M_I + (1 - tau) M_P.
+void tensorRow(const float* __restrict gx, const float* __restrict gy, const float* __restrict px,
+               const float* __restrict py, float tau, int cols, float* __restrict xx, float* __restrict xy,
+               float* __restrict yy) {
+  const float shape = 1.0f - tau;
+  for (int u = 0; u < cols; ++u) {
+    xx[u] = tau * gx[u] * gx[u] + shape * px[u] * px[u];
+    xy[u] = tau * gx[u] * gy[u] + shape * px[u] * py[u];
+    yy[u] = tau * gy[u] * gy[u] + shape * py[u] * py[u];
+  }
+}
+
+// Harris: R = det(M) - k trace(M)^2.
+void harrisRow(const float* __restrict xx, const float* __restrict xy, const float* __restrict yy, float k, int cols,
+               float* __restrict r) {
+  for (int u = 0; u < cols; ++u) r[u] = xx[u] * yy[u] - xy[u] * xy[u] - k * (xx[u] + yy[u]) * (xx[u] + yy[u]);
 }
 
 }  // namespace
@@ -38,42 +90,51 @@ void Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geom
   if (geometry.points.size() != frame.size()) throw InputError("geometry does not belong to this frame");
   ResponseBuffers& b = buffers();
   const float tau = static_cast<float>(params_.tau);
+  const float k = static_cast<float>(params_.harris_k);
+  const double gray_sigma = params_.gray_sigma, window_sigma = params_.window_sigma;
+  const cv::Size size = frame.size();
+  for (cv::Mat* image : {&b.raw, &b.I, &b.tensor[0], &b.tensor[1], &b.tensor[2], &b.window[0], &b.window[1],
+                         &b.window[2], &R}) {
+    image->create(size, CV_32FC1);
+  }
 
-  frame.gray().convertTo(b.I, CV_32F);
-  if (params_.gray_sigma > 0) cv::GaussianBlur(b.I, b.I, cv::Size(), params_.gray_sigma, params_.gray_sigma);
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
   dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
-
+  inStripes(size.height, [&](const cv::Range& rows) {
+    frame.gray().rowRange(rows).convertTo(b.raw.rowRange(rows), CV_32F);
+  });
+  inStripes(size.height, [&](const cv::Range& rows) {
+    if (gray_sigma > 0) {
+      cv::GaussianBlur(b.raw.rowRange(rows), b.I.rowRange(rows), gaussianSize(gray_sigma), gray_sigma, gray_sigma);
+    } else {
+      b.raw.rowRange(rows).copyTo(b.I.rowRange(rows));
+    }
+  });
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
-  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P: its three
-  // entries before the window w, as one 3-channel image smoothed in one go.
-  gradients(b.I, b.gx, b.gy);
-  gradients(b.P, b.px, b.py);
-  b.tensor.create(frame.size(), CV_32FC3);
-  for (int v = 0; v < b.tensor.rows; ++v) {
-    const float *gx = b.gx.ptr<float>(v), *gy = b.gy.ptr<float>(v);
-    const float *px = b.px.ptr<float>(v), *py = b.py.ptr<float>(v);
-    float* t = b.tensor.ptr<float>(v);
-    for (int u = 0; u < b.tensor.cols; ++u) {
-      t[3 * u] = tau * gx[u] * gx[u] + (1.0f - tau) * px[u] * px[u];
-      t[3 * u + 1] = tau * gx[u] * gy[u] + (1.0f - tau) * px[u] * py[u];
-      t[3 * u + 2] = tau * gy[u] * gy[u] + (1.0f - tau) * py[u] * py[u];
+  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P.
+  inStripes(size.height, [&](const cv::Range& rows) {
+    thread_local std::vector<float> gradient_rows;
+    gradient_rows.resize(4 * static_cast<size_t>(size.width));
+    float* gx = gradient_rows.data();
+    float *gy = gx + size.width, *px = gy + size.width, *py = px + size.width;
+    for (int v = rows.start; v < rows.end; ++v) {
+      sobelRow(b.I, v, gx, gy);
+      sobelRow(b.P, v, px, py);
+      tensorRow(gx, gy, px, py, tau, size.width, b.tensor[0].ptr<float>(v), b.tensor[1].ptr<float>(v),
+                b.tensor[2].ptr<float>(v));
     }
-  }
-  const double s = params_.window_sigma;
-  cv::GaussianBlur(b.tensor, b.tensor, cv::Size(), s, s);
-
-  // Harris: R = det(M) - k trace(M)^2.
-  const float k = static_cast<float>(params_.harris_k);
-  R.create(frame.size(), CV_32FC1);
-  for (int v = 0; v < R.rows; ++v) {
-    const float* t = b.tensor.ptr<float>(v);
-    float* r = R.ptr<float>(v);
-    for (int u = 0; u < R.cols; ++u) {
-      const float a = t[3 * u], c = t[3 * u + 1], d = t[3 * u + 2];
-      r[u] = a * d - c * c - k * (a + d) * (a + d);
+  });
+  // The window w, then Harris.
+  inStripes(size.height, [&](const cv::Range& rows) {
+    for (int i = 0; i < 3; ++i) {
+      cv::GaussianBlur(b.tensor[i].rowRange(rows), b.window[i].rowRange(rows), gaussianSize(window_sigma), window_sigma,
+                       window_sigma);
     }
-  }
+    for (int v = rows.start; v < rows.end; ++v) {
+      harrisRow(b.window[0].ptr<float>(v), b.window[1].ptr<float>(v), b.window[2].ptr<float>(v), k, size.width,
+                R.ptr<float>(v));
+    }
+  });
 }
 
 cv::Mat Detector::response(const RgbdFrame& frame, const FrameGeometry& geometry) const {
@@ -96,7 +157,10 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   // (2 nms_radius + 1)^2 neighbourhood.
   const int w = 2 * params_.nms_radius + 1;
   cv::Mat& local_max = buffer.local_max;
-  cv::dilate(R, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)));
+  local_max.create(R.size(), CV_32FC1);
+  inStripes(R.rows, [&](const cv::Range& rows) {
+    cv::dilate(R.rowRange(rows), local_max.rowRange(rows), cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)));
+  });
   double max_response = 0.0;
   cv::minMaxLoc(R, nullptr, &max_response);
   if (max_response <= 0.0) return;
