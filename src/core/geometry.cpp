@@ -10,14 +10,16 @@ void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::
   // x = (u - cx) z / fx: the factor of z is one per column, tabulated.
   std::vector<float> x_factor(static_cast<size_t>(depth_metres.cols));
   for (int u = 0; u < depth_metres.cols; ++u) x_factor[static_cast<size_t>(u)] = static_cast<float>((u - intrinsics.cx) / intrinsics.fx);
-  for (int v = 0; v < depth_metres.rows; ++v) {
-    const float y_factor = static_cast<float>((v - intrinsics.cy) / intrinsics.fy);
-    const float* z = depth_metres.ptr<float>(v);
-    cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-    for (int u = 0; u < depth_metres.cols; ++u) {
-      p[u] = cv::Vec3f(x_factor[static_cast<size_t>(u)] * z[u], y_factor * z[u], z[u]);  // NaN depth gives a NaN point
+  cv::parallel_for_(cv::Range(0, depth_metres.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const float y_factor = static_cast<float>((v - intrinsics.cy) / intrinsics.fy);
+      const float* z = depth_metres.ptr<float>(v);
+      cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < depth_metres.cols; ++u) {
+        p[u] = cv::Vec3f(x_factor[static_cast<size_t>(u)] * z[u], y_factor * z[u], z[u]);  // NaN depth gives a NaN point
+      }
     }
-  }
+  });
 }
 
 cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {

@@ -87,29 +87,31 @@ void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv
   const float nan = std::numeric_limits<float>::quiet_NaN();
   grid.create((points.rows + stride - 1) / stride, (points.cols + stride - 1) / stride, CV_32FC3);
   on_surface.create(points.size(), CV_8UC1);
-  for (int i = 0; i < grid.rows; ++i) {
-    cv::Vec3f* g = grid.ptr<cv::Vec3f>(i);
-    const int r_end = std::min((i + 1) * stride, points.rows);
-    for (int j = 0; j < grid.cols; ++j) {
-      const int c_end = std::min((j + 1) * stride, points.cols);
-      cv::Vec3f sum(0, 0, 0), first(nan, nan, nan);
-      int count = 0;
-      for (int r = i * stride; r < r_end; ++r) {
-        const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-        uchar* on = on_surface.ptr<uchar>(r);
-        for (int c = j * stride; c < c_end; ++c) {
-          on[c] = 0;
-          if (std::isnan(p[c][2])) continue;
-          if (count == 0) first = p[c];
-          if (std::abs(p[c][2] - first[2]) > depth_change_factor * first[2]) continue;
-          on[c] = 255;
-          sum += p[c];
-          ++count;
+  cv::parallel_for_(cv::Range(0, grid.rows), [&](const cv::Range& grid_rows) {
+    for (int i = grid_rows.start; i < grid_rows.end; ++i) {
+      cv::Vec3f* g = grid.ptr<cv::Vec3f>(i);
+      const int r_end = std::min((i + 1) * stride, points.rows);
+      for (int j = 0; j < grid.cols; ++j) {
+        const int c_end = std::min((j + 1) * stride, points.cols);
+        cv::Vec3f sum(0, 0, 0), first(nan, nan, nan);
+        int count = 0;
+        for (int r = i * stride; r < r_end; ++r) {
+          const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
+          uchar* on = on_surface.ptr<uchar>(r);
+          for (int c = j * stride; c < c_end; ++c) {
+            on[c] = 0;
+            if (std::isnan(p[c][2])) continue;
+            if (count == 0) first = p[c];
+            if (std::abs(p[c][2] - first[2]) > depth_change_factor * first[2]) continue;
+            on[c] = 255;
+            sum += p[c];
+            ++count;
+          }
         }
+        g[j] = count ? sum * (1.0f / count) : first;
       }
-      g[j] = count ? sum * (1.0f / count) : first;
     }
-  }
+  });
 }
 
 // 0 at points with no depth or bordering a different surface (a depth jump to
@@ -118,23 +120,25 @@ void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv
 void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::Mat& mask) {
   mask.create(points.size(), CV_8UC1);
   const int rows = points.rows, cols = points.cols;
-  for (int r = 0; r < rows; ++r) {
-    const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-    const cv::Vec3f* above = points.ptr<cv::Vec3f>(std::max(r - 1, 0));
-    const cv::Vec3f* below = points.ptr<cv::Vec3f>(std::min(r + 1, rows - 1));
-    uchar* m = mask.ptr<uchar>(r);
-    for (int c = 0; c < cols; ++c) {
-      const float z = p[c][2];
-      const float limit = depth_change_factor * z;
-      // NaN compares false: a missing neighbour fails the test, as does a
-      // missing centre. Outside the image counts as the centre itself.
-      const auto same = [&](float zn) { return std::abs(zn - z) <= limit; };
-      m[c] = same(above[c][2]) && same(below[c][2]) && same(p[std::max(c - 1, 0)][2]) &&
-                     same(p[std::min(c + 1, cols - 1)][2])
-                 ? 255
-                 : 0;
+  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
+    for (int r = range.start; r < range.end; ++r) {
+      const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
+      const cv::Vec3f* above = points.ptr<cv::Vec3f>(std::max(r - 1, 0));
+      const cv::Vec3f* below = points.ptr<cv::Vec3f>(std::min(r + 1, rows - 1));
+      uchar* m = mask.ptr<uchar>(r);
+      for (int c = 0; c < cols; ++c) {
+        const float z = p[c][2];
+        const float limit = depth_change_factor * z;
+        // NaN compares false: a missing neighbour fails the test, as does a
+        // missing centre. Outside the image counts as the centre itself.
+        const auto same = [&](float zn) { return std::abs(zn - z) <= limit; };
+        m[c] = same(above[c][2]) && same(below[c][2]) && same(p[std::max(c - 1, 0)][2]) &&
+                       same(p[std::min(c + 1, cols - 1)][2])
+                   ? 255
+                   : 0;
+      }
     }
-  }
+  });
 }
 
 // Moments of the window's points on the same surface as its centre: the
