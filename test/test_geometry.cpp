@@ -3,7 +3,12 @@
 
 #include "risas/geometry.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
 
 namespace risas {
 namespace {
@@ -114,6 +119,80 @@ TEST(Geometry, PixelsWithoutDepthHaveNoNormal) {
   EXPECT_FALSE(g.hasNormal(12, 22));
   EXPECT_TRUE(g.hasNormal(40, 50));
   EXPECT_LT(angleDeg(g.normal(40, 50), cv::Vec3f(0, 0, -1)), 0.5);
+}
+
+TEST(Geometry, NormalsEqualADirectFitOfEachWindow) {
+  // A smooth wavy surface filling the frame: one surface, no jumps, so every
+  // window is the plain square of grid points, clamped at the image edges.
+  // The fast path (sums sliding down bands of rows, float fit) must give the
+  // normal that a direct double-precision PCA of that square gives.
+  const int width = 100, height = 75;  // 38 grid rows: bands of 16 and a partial one
+  cv::Mat depth(height, width, CV_32FC1);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) depth.at<float>(v, u) = 1.0f + 0.1f * std::sin(u / 9.0f) * std::cos(v / 11.0f);
+  }
+  const Intrinsics K(80, 80, 50, 37);
+  const RgbdFrame frame(cv::Mat(height, width, CV_8UC1, cv::Scalar(90)), depth, K);
+  const GeometryParams params;
+  const FrameGeometry g = computeGeometry(frame, params);
+
+  const int stride = params.normal_stride, radius = (params.normal_radius + stride - 1) / stride;
+  const int grid_rows = (height + stride - 1) / stride, grid_cols = (width + stride - 1) / stride;
+  std::vector<Eigen::Vector3d> grid;  // block means
+  for (int i = 0; i < grid_rows; ++i) {
+    for (int j = 0; j < grid_cols; ++j) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int n = 0;
+      for (int r = i * stride; r < std::min((i + 1) * stride, height); ++r) {
+        for (int c = j * stride; c < std::min((j + 1) * stride, width); ++c, ++n) {
+          const cv::Vec3f p = g.points.at<cv::Vec3f>(r, c);
+          sum += Eigen::Vector3d(p[0], p[1], p[2]);
+        }
+      }
+      grid.push_back(sum / n);
+    }
+  }
+  double worst = 0.0;
+  for (int i = 0; i < grid_rows; ++i) {
+    for (int j = 0; j < grid_cols; ++j) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      std::vector<Eigen::Vector3d> window;
+      for (int a = std::max(i - radius, 0); a <= std::min(i + radius, grid_rows - 1); ++a) {
+        for (int b = std::max(j - radius, 0); b <= std::min(j + radius, grid_cols - 1); ++b) {
+          window.push_back(grid[static_cast<size_t>(a * grid_cols + b)]);
+          mean += window.back();
+        }
+      }
+      mean /= static_cast<double>(window.size());
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (const Eigen::Vector3d& p : window) covariance += (p - mean) * (p - mean).transpose();
+      Eigen::Vector3d expected = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors().col(0);
+      if (expected.dot(grid[static_cast<size_t>(i * grid_cols + j)]) > 0.0) expected = -expected;
+
+      ASSERT_TRUE(g.hasNormal(i * stride, j * stride)) << i << ", " << j;
+      const cv::Vec3f n = g.normal(i * stride, j * stride);
+      const Eigen::Vector3d actual(n[0], n[1], n[2]);
+      worst = std::max(worst, std::atan2(actual.cross(expected).norm(), actual.dot(expected)) * 180.0 / M_PI);
+    }
+  }
+  EXPECT_LT(worst, 0.1);  // two power iterations leave 0.04 degrees on this curvature
+}
+
+TEST(Geometry, SameNormalsOnAnyNumberOfThreads) {
+  // The window sums slide down fixed bands of rows, not the threads' shares:
+  // the rounding, and so every normal, must not depend on the thread count.
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  const FrameGeometry single = computeGeometry(frame, GeometryParams());
+  for (int n : {2, 3, 5}) {
+    cv::setNumThreads(n);
+    const FrameGeometry g = computeGeometry(frame, GeometryParams());
+    EXPECT_EQ(cv::norm(g.normals, single.normals, cv::NORM_INF), 0.0) << n << " threads";
+    EXPECT_EQ(cv::norm(g.on_block_surface, single.on_block_surface, cv::NORM_INF), 0.0) << n << " threads";
+  }
+  cv::setNumThreads(threads);
+  EXPECT_GT(cv::countNonZero(single.on_block_surface), static_cast<int>(frame.size().area() / 2));
 }
 
 }  // namespace

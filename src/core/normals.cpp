@@ -10,73 +10,99 @@
 namespace risas {
 namespace {
 
-// Zeroth, first and second moments of a set of points: all the covariance of a
-// window needs, and additive, so a box sum is four look-ups in an integral image.
-struct Moments {
-  double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+// The moments of a window's points: count, sums of x, y, z and of their six
+// products. All the covariance of a window needs, and additive, so the sums
+// of a sliding window are kept by adding the entering points and subtracting
+// the leaving ones. One array per moment, so that the loops along a row
+// vectorise.
+enum Moment { kN, kX, kY, kZ, kXX, kXY, kXZ, kYY, kYZ, kZZ, kMoments };
 
-  void add(const cv::Vec3f& p) {
-    const double px = p[0], py = p[1], pz = p[2];
-    n += 1; x += px; y += py; z += pz;
-    xx += px * px; xy += px * py; xz += px * pz; yy += py * py; yz += py * pz; zz += pz * pz;
-  }
-  Moments& operator+=(const Moments& o) {
-    n += o.n; x += o.x; y += o.y; z += o.z;
-    xx += o.xx; xy += o.xy; xz += o.xz; yy += o.yy; yz += o.yz; zz += o.zz;
-    return *this;
-  }
-  Moments& operator-=(const Moments& o) {
-    n -= o.n; x -= o.x; y -= o.y; z -= o.z;
-    xx -= o.xx; xy -= o.xy; xz -= o.xz; yy -= o.yy; yz -= o.yz; zz -= o.zz;
-    return *this;
-  }
-};
-
-// The integral image of the moments. Its storage is one buffer per thread,
-// reused from frame to frame: allocating and zeroing it per frame showed in
-// the profile. Each call still fills it whole, so results never depend on an
-// earlier frame, and a thread computes one frame at a time.
-class MomentIntegral {
+class RowMoments {
  public:
-  // Sums the points where mask is non-zero.
-  MomentIntegral(const cv::Mat& points, const cv::Mat& mask) : stride_(points.cols + 1), sums_(buffer()) {
-    sums_.resize(static_cast<size_t>(points.rows + 1) * stride_);  // grows once, never shrinks
-    std::fill(sums_.begin(), sums_.begin() + static_cast<std::ptrdiff_t>(stride_), Moments());  // row 0
-    for (int v = 0; v < points.rows; ++v) {
-      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-      const uchar* m = mask.ptr<uchar>(v);
-      const Moments* above = &at(v, 0);
-      Moments* cell = &at(v + 1, 0);
-      cell[0] = Moments();  // column 0
-      Moments row;
-      for (int u = 0; u < points.cols; ++u) {
-        if (m[u]) row.add(p[u]);
-        cell[u + 1] = above[u + 1];
-        cell[u + 1] += row;
-      }
+  // Zeroed, room for `length` values per moment.
+  void reset(int length) {
+    length_ = length;
+    data_.assign(static_cast<size_t>(kMoments) * length, 0.0);
+  }
+  double* operator[](int moment) { return data_.data() + static_cast<size_t>(moment) * length_; }
+  const double* operator[](int moment) const { return data_.data() + static_cast<size_t>(moment) * length_; }
+
+  // Adds (sign 1) or removes (sign -1) the moments of one image row's points
+  // (coordinates x, y, z) where the mask is set, column by column.
+  void accumulate(const float* x, const float* y, const float* z, const uchar* mask, double sign) {
+    double* s[kMoments];
+    for (int k = 0; k < kMoments; ++k) s[k] = (*this)[k];
+#pragma GCC ivdep  // the moments' arrays are distinct
+    for (int u = 0; u < length_; ++u) {
+      // Loaded, then selected, not branched on; a masked-out point may be
+      // NaN and is never multiplied.
+      const bool in = mask[u] != 0;
+      const float xu = x[u], yu = y[u], zu = z[u];
+      const double w = in ? sign : 0.0;
+      const double px = in ? xu : 0.0f, py = in ? yu : 0.0f, pz = in ? zu : 0.0f;
+      s[kN][u] += w;
+      s[kX][u] += w * px; s[kY][u] += w * py; s[kZ][u] += w * pz;
+      s[kXX][u] += w * px * px; s[kXY][u] += w * px * py; s[kXZ][u] += w * px * pz;
+      s[kYY][u] += w * py * py; s[kYZ][u] += w * py * pz; s[kZZ][u] += w * pz * pz;
     }
   }
 
-  // Moments of the summed points in rows [r0, r1) and columns [c0, c1).
-  Moments box(int r0, int c0, int r1, int c1) const {
-    Moments m = at(r1, c1);
-    m -= at(r0, c1);
-    m -= at(r1, c0);
-    m += at(r0, c0);
-    return m;
-  }
-
  private:
-  static std::vector<Moments>& buffer() {
-    thread_local std::vector<Moments> storage;
-    return storage;
-  }
-  Moments& at(int r, int c) { return sums_[static_cast<size_t>(r) * stride_ + c]; }
-  const Moments& at(int r, int c) const { return sums_[static_cast<size_t>(r) * stride_ + c]; }
-
-  size_t stride_;
-  std::vector<Moments>& sums_;
+  int length_ = 0;
+  std::vector<double> data_;
 };
+
+// A row's windows in the form the fit takes, the point count and the six
+// entries of the covariance C = [a b c; b d e; c e f], and the fit's
+// unoriented normal (nx, ny, nz): one array each.
+struct RowCovariances {
+  std::vector<float> n, a, b, c, d, e, f, nx, ny, nz;
+  void resize(int cols) {
+    for (std::vector<float>* v : {&n, &a, &b, &c, &d, &e, &f, &nx, &ny, &nz}) v->resize(static_cast<size_t>(cols));
+  }
+  // Covariance from moments, in double: E[xx] - E[x]^2 cancels most digits.
+  void set(int u, double n_, double x, double y, double z, double xx, double xy, double xz, double yy, double yz,
+           double zz) {
+    const double inv = n_ > 0.0 ? 1.0 / n_ : 0.0;
+    const double mx = x * inv, my = y * inv, mz = z * inv;
+    n[u] = static_cast<float>(n_);
+    a[u] = static_cast<float>(xx * inv - mx * mx);
+    b[u] = static_cast<float>(xy * inv - mx * my);
+    c[u] = static_cast<float>(xz * inv - mx * mz);
+    d[u] = static_cast<float>(yy * inv - my * my);
+    e[u] = static_cast<float>(yz * inv - my * mz);
+    f[u] = static_cast<float>(zz * inv - mz * mz);
+  }
+};
+
+// The covariances of a row's square windows of half-width radius from the
+// row's column sums (the moments of the window's rows, per column). The
+// window's sum is the difference of two running sums along the row;
+// `running` holds them shifted by radius and clamped at both ends, so that
+// window u is running[u + 2 radius + 1] - running[u] wherever u lies.
+void boxCovariances(const RowMoments& columns, int cols, int radius, RowMoments& running, RowCovariances& out) {
+  const int pad = radius + 1;  // running[j] = sum of columns 0 .. clamp(j - pad, -1, cols - 1)
+  double total[kMoments] = {};
+  double* r[kMoments];
+  for (int k = 0; k < kMoments; ++k) {
+    r[k] = running[k];
+    std::fill(r[k], r[k] + pad, 0.0);
+  }
+  for (int u = 0; u < cols; ++u) {  // the moments side by side: ten independent chains
+    for (int k = 0; k < kMoments; ++k) {
+      total[k] += columns[k][u];
+      r[k][u + pad] = total[k];
+    }
+  }
+  for (int k = 0; k < kMoments; ++k) std::fill(r[k] + pad + cols, r[k] + cols + 2 * radius + 1, total[k]);
+  const int width = 2 * radius + 1;
+  const auto box = [&](int k, int u) { return r[k][u + width] - r[k][u]; };
+#pragma GCC ivdep  // the covariance's arrays are distinct
+  for (int u = 0; u < cols; ++u) {
+    out.set(u, box(kN, u), box(kX, u), box(kY, u), box(kZ, u), box(kXX, u), box(kXY, u), box(kXZ, u), box(kYY, u),
+            box(kYZ, u), box(kZZ, u));
+  }
+}
 
 // The grid the normals are fitted on: one point per stride x stride block
 // (partial blocks at the right and bottom edges), the mean of the block's
@@ -141,11 +167,12 @@ void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::M
   });
 }
 
-// Moments of the window's points on the same surface as its centre: the
-// O(window) path for points near a jump, where a plain box would mix
+// The covariance of the window's points on the same surface as its centre:
+// the O(window) path for points near a jump, where a plain box would mix
 // surfaces. Taken about the centre (the covariance does not change), where
 // the offsets are centimetres and float sums are exact enough.
-Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius) {
+void sameSurfaceCovariance(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius,
+                           RowCovariances& out) {
   const int label = surfaces.at<int>(v, u);
   const cv::Vec3f centre = points.at<cv::Vec3f>(v, u);
   float n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
@@ -159,13 +186,11 @@ Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v
       xx += dx * dx; xy += dx * dy; xz += dx * dz; yy += dy * dy; yz += dy * dz; zz += dz * dz;
     }
   }
-  Moments m;
-  m.n = n; m.x = x; m.y = y; m.z = z;
-  m.xx = xx; m.xy = xy; m.xz = xz; m.yy = yy; m.yz = yz; m.zz = zz;
-  return m;
+  out.set(u, n, x, y, z, xx, xy, xz, yy, yz, zz);
 }
 
-// Unit normal of the window's points facing the camera, or none.
+// Unit normals of a row's windows facing the camera; (0, 0, 0) where there
+// are fewer than min_points points, no centre label, or no plane.
 //
 // The normal is the eigenvector of the covariance C for its smallest
 // eigenvalue l1. The adjugate adj(C) has the same eigenvectors with
@@ -173,45 +198,66 @@ Moments sameSurfaceMoments(const cv::Mat& points, const cv::Mat& surfaces, int v
 // one; for a surface patch (l1 << l2) adj(C) is nearly rank one and its
 // largest column already points along the normal. Two power iterations
 // sharpen it by (l1/l2)^2 each: no trigonometric eigen-solver per pixel.
-// (Unnormalised in between: the entries are products of variances, far
-// from double's range limits.)
-bool fitNormal(const Moments& m, const cv::Vec3f& centre, cv::Vec3f& normal) {
-  const double inv = 1.0 / m.n;
-  const double mx = m.x * inv, my = m.y * inv, mz = m.z * inv;
-  const double a = m.xx * inv - mx * mx, b = m.xy * inv - mx * my, c = m.xz * inv - mx * mz;
-  const double d = m.yy * inv - my * my, e = m.yz * inv - my * mz, f = m.zz * inv - mz * mz;
-  // adj(C) of the symmetric C = [a b c; b d e; c e f], itself symmetric
-  const double A00 = d * f - e * e, A01 = c * e - b * f, A02 = b * e - c * d;
-  const double A11 = a * f - c * c, A12 = b * c - a * e, A22 = a * d - b * b;
-  const double l0 = A00 * A00 + A01 * A01 + A02 * A02;
-  const double l1 = A01 * A01 + A11 * A11 + A12 * A12;
-  const double l2 = A02 * A02 + A12 * A12 + A22 * A22;
-  double x, y, z;
-  if (l0 >= l1 && l0 >= l2) {
-    x = A00, y = A01, z = A02;
-  } else if (l1 >= l2) {
-    x = A01, y = A11, z = A12;
-  } else {
-    x = A02, y = A12, z = A22;
+// Branch-free, in float, over the row: C is scaled to unit trace first, so
+// every product stays far from float's range limits.
+void fitRow(RowCovariances& cov, const cv::Vec3f* centres, const int* label, float min_points, int cols,
+            cv::Vec3f* normals) {
+  // adj(C) of a collinear window (l2 = 0) is zero up to rounding: it has
+  // no plane. Its dominant eigenvalue l2 l3 must clear float's noise.
+  constexpr float kMinPlaneness = 1e-6f;
+  const float *__restrict cn = cov.n.data(), *__restrict ca = cov.a.data(), *__restrict cb = cov.b.data();
+  const float *__restrict cc = cov.c.data(), *__restrict cd = cov.d.data(), *__restrict ce = cov.e.data();
+  const float* __restrict cf = cov.f.data();
+  float *__restrict nx = cov.nx.data(), *__restrict ny = cov.ny.data(), *__restrict nz = cov.nz.data();
+#pragma GCC ivdep  // the arrays are distinct (GCC does not trust a local's __restrict)
+  for (int u = 0; u < cols; ++u) {
+    // Bitwise & and arithmetic on safe operands, selected afterwards: the
+    // loop stays free of branches and vectorises.
+    const float trace = ca[u] + cd[u] + cf[u];
+    const bool fitted = (label[u] != 0) & (cn[u] >= min_points) & (trace > 0.0f);
+    const float s = (fitted ? 1.0f : 0.0f) / (fitted ? trace : 1.0f);
+    const float a = ca[u] * s, b = cb[u] * s, c = cc[u] * s;
+    const float d = cd[u] * s, e = ce[u] * s, f = cf[u] * s;
+    // adj(C) of the symmetric C = [a b c; b d e; c e f], itself symmetric
+    const float A00 = d * f - e * e, A01 = c * e - b * f, A02 = b * e - c * d;
+    const float A11 = a * f - c * c, A12 = b * c - a * e, A22 = a * d - b * b;
+    const float l0 = A00 * A00 + A01 * A01 + A02 * A02;
+    const float l1 = A01 * A01 + A11 * A11 + A12 * A12;
+    const float l2 = A02 * A02 + A12 * A12 + A22 * A22;
+    // The largest column (|column|^2 = (l2 l3)^2 for a plane), scaled to
+    // unit length. (Two single selections: a nested one does not vectorise.)
+    const bool second = l1 >= l2;
+    const float l12 = second ? l1 : l2;
+    float x = second ? A01 : A02, y = second ? A11 : A12, z = second ? A12 : A22;
+    const bool first = l0 >= l12;
+    const float largest = first ? l0 : l12;
+    x = first ? A00 : x, y = first ? A01 : y, z = first ? A02 : z;
+    const bool planar = fitted & (largest > kMinPlaneness * kMinPlaneness);
+    const float unit = (planar ? 1.0f : 0.0f) / std::sqrt(planar ? largest : 1.0f);
+    x *= unit, y *= unit, z *= unit;
+    for (int i = 0; i < 2; ++i) {
+      const float px = A00 * x + A01 * y + A02 * z;
+      const float py = A01 * x + A11 * y + A12 * z;
+      const float pz = A02 * x + A12 * y + A22 * z;
+      x = px, y = py, z = pz;
+    }
+    const float length2 = x * x + y * y + z * z;
+    const bool found = planar & (length2 > 0.0f);
+    const float scale = (found ? 1.0f : 0.0f) / std::sqrt(found ? length2 : 1.0f);
+    nx[u] = x * scale, ny[u] = y * scale, nz[u] = z * scale;
   }
-  for (int i = 0; i < 2; ++i) {
-    const double nx = A00 * x + A01 * y + A02 * z;
-    const double ny = A01 * x + A11 * y + A12 * z;
-    const double nz = A02 * x + A12 * y + A22 * z;
-    x = nx, y = ny, z = nz;
+  // Facing the camera. A centre without a point (NaN) has no fit: (0, 0, 0).
+  for (int u = 0; u < cols; ++u) {
+    const cv::Vec3f n(nx[u], ny[u], nz[u]);
+    normals[u] = n.dot(centres[u]) > 0.0f ? -n : n;
   }
-  const double length = std::sqrt(x * x + y * y + z * z);
-  if (!(length > 0.0) || !std::isfinite(length)) return false;  // collinear or single points
-  double scale = 1.0 / length;
-  if (x * centre[0] + y * centre[1] + z * centre[2] > 0.0) scale = -scale;
-  normal = cv::Vec3f(static_cast<float>(x * scale), static_cast<float>(y * scale), static_cast<float>(z * scale));
-  return true;
 }
 
 // The images of one frame's normals, one set per thread and reused from frame
 // to frame: allocated afresh, their page faults cost as much as the fits.
 struct NormalBuffers {
   cv::Mat grid_points, interior, surfaces, labels_low, labels_high, window_low, window_high;
+  std::vector<cv::Mat> coordinates;
 };
 
 NormalBuffers& buffers() {
@@ -240,6 +286,12 @@ void windowsOnOneSurface(const cv::Mat& surfaces, int radius, NormalBuffers& b) 
   cv::dilate(b.labels_high, b.window_high, window, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
 }
 
+// The per-thread state of a band of rows (see fitNormals).
+struct BandBuffers {
+  RowMoments columns, running;
+  RowCovariances covariances;
+};
+
 // Normals fitted at every point of a (grid) cloud, windows of half-width
 // radius; (0, 0, 0) where none.
 void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, int min_points, cv::Mat& normals) {
@@ -254,25 +306,42 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
   // Where the window reaches no other surface, its own surface's points are
   // all its interior points: a box sum of the interior's moments, O(1).
   // Only windows across a jump (two labels) need the O(window) sum.
-  const MomentIntegral integral(points, interior);
   windowsOnOneSurface(surfaces, radius, b);
 
+  // The box sums slide down bands of rows: a band starts its column sums
+  // afresh and then adds the row entering the window and removes the one
+  // leaving it. The bands are fixed, not the threads' share, so the sums,
+  // rounding and all, do not depend on the number of threads.
+  constexpr int kBandRows = 16;
+  const int rows = points.rows, cols = points.cols;
+  cv::split(points, b.coordinates);  // x, y and z planes: the row loops read them as plain arrays
   normals.create(points.size(), CV_32FC3);
-  cv::parallel_for_(cv::Range(0, points.rows), [&](const cv::Range& range) {
-    for (int v = range.start; v < range.end; ++v) {
-      const int* label = surfaces.ptr<int>(v);
-      const float* low = b.window_low.ptr<float>(v);
-      const float* high = b.window_high.ptr<float>(v);
-      const cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
-      cv::Vec3f* n = normals.ptr<cv::Vec3f>(v);
-      for (int u = 0; u < points.cols; ++u) {
-        n[u] = cv::Vec3f(0, 0, 0);
-        if (label[u] == 0) continue;
-        const Moments m = low[u] == high[u] ? integral.box(std::max(v - radius, 0), std::max(u - radius, 0),
-                                                           std::min(v + radius + 1, points.rows),
-                                                           std::min(u + radius + 1, points.cols))
-                                            : sameSurfaceMoments(points, surfaces, v, u, radius);
-        if (m.n >= min_points) fitNormal(m, p[u], n[u]);
+  cv::parallel_for_(cv::Range(0, (rows + kBandRows - 1) / kBandRows), [&](const cv::Range& bands) {
+    thread_local BandBuffers band;
+    band.covariances.resize(cols);
+    band.running.reset(cols + 2 * radius + 1);
+    for (int i = bands.start; i < bands.end; ++i) {
+      const int v_begin = i * kBandRows, v_end = std::min(v_begin + kBandRows, rows);
+      band.columns.reset(cols);
+      const auto accumulate = [&](int r, double sign) {
+        band.columns.accumulate(b.coordinates[0].ptr<float>(r), b.coordinates[1].ptr<float>(r),
+                                b.coordinates[2].ptr<float>(r), interior.ptr<uchar>(r), sign);
+      };
+      for (int r = std::max(v_begin - radius, 0); r <= std::min(v_begin + radius, rows - 1); ++r) accumulate(r, 1.0);
+      for (int v = v_begin; v < v_end; ++v) {
+        if (v > v_begin) {
+          if (v + radius < rows) accumulate(v + radius, 1.0);
+          if (v - radius - 1 >= 0) accumulate(v - radius - 1, -1.0);
+        }
+        boxCovariances(band.columns, cols, radius, band.running, band.covariances);
+        const int* label = surfaces.ptr<int>(v);
+        const float* low = b.window_low.ptr<float>(v);
+        const float* high = b.window_high.ptr<float>(v);
+        for (int u = 0; u < cols; ++u) {
+          if (label[u] != 0 && low[u] != high[u]) sameSurfaceCovariance(points, surfaces, v, u, radius, band.covariances);
+        }
+        fitRow(band.covariances, points.ptr<cv::Vec3f>(v), label, static_cast<float>(min_points), cols,
+               normals.ptr<cv::Vec3f>(v));
       }
     }
   });
