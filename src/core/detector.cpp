@@ -14,7 +14,7 @@ namespace {
 // reused from frame to frame: a VGA frame needs about 20 MB of them, which
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
-  cv::Mat raw, I, P, R, local_max;
+  cv::Mat raw, I, P, R;
   cv::Mat tensor[3], window[3];  // the entries xx, xy, yy of eq. 1's structure tensor, one plane each
 };
 
@@ -152,26 +152,32 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   computeResponse(frame, geometry, buffer.R);
   const cv::Mat& R = buffer.R;
 
-  // Non-maximum suppression: a keypoint is the largest response of its
-  // (2 nms_radius + 1)^2 neighbourhood.
-  const int w = 2 * params_.nms_radius + 1;
-  cv::Mat& local_max = buffer.local_max;
-  local_max.create(R.size(), CV_32FC1);
-  inStripes(R.rows, [&](const cv::Range& rows) {
-    cv::dilate(R.rowRange(rows), local_max.rowRange(rows), cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)));
-  });
   double max_response = 0.0;
   cv::minMaxLoc(R, nullptr, &max_response);
   if (max_response <= 0.0) return;
   const float threshold = static_cast<float>(params_.response_threshold * max_response);
 
+  // Non-maximum suppression: a keypoint is the largest response of its
+  // (2 nms_radius + 1)^2 neighbourhood. Tested where the response clears the
+  // threshold only, the row's two neighbours first: most pixels fail there,
+  // without a full-frame maximum filter.
+  const int radius = params_.nms_radius;
+  const auto isLocalMaximum = [&](int v, int u, float value) {
+    for (int dv = std::max(-radius, -v); dv <= std::min(radius, R.rows - 1 - v); ++dv) {
+      const float* row = R.ptr<float>(v + dv);
+      for (int du = std::max(-radius, -u); du <= std::min(radius, R.cols - 1 - u); ++du) {
+        if (row[u + du] > value) return false;
+      }
+    }
+    return true;
+  };
   const int b = params_.border;
   for (int v = b; v < R.rows - b; ++v) {
     const float* r = R.ptr<float>(v);
-    const float* m = local_max.ptr<float>(v);
     const uchar* allowed = mask.empty() ? nullptr : mask.ptr<uchar>(v);
     for (int u = b; u < R.cols - b; ++u) {
-      if (r[u] <= threshold || r[u] < m[u]) continue;
+      if (r[u] <= threshold || (u > 0 && r[u - 1] > r[u]) || (u + 1 < R.cols && r[u + 1] > r[u])) continue;
+      if (!isLocalMaximum(v, u, r[u])) continue;
       if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) continue;
       keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
                              static_cast<float>(6.0 * params_.window_sigma), -1.0f, r[u]);

@@ -16,10 +16,12 @@ void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table
   int64_t total = 0;
   for (int v = 0; v < levels; ++v) total += histogram[v];
   // The running count is ranksBelow's, kept inline so that the descriptor's
-  // per-keypoint call allocates nothing.
-  int64_t below = 0;
+  // per-keypoint call allocates nothing. The group, below * groups / total
+  // rounded down, only grows with below: it is stepped, not divided for.
+  int64_t below = 0, group = 0, next = total;  // next: where group + 1 starts, times groups
   for (int v = 0; v < levels; ++v) {
-    table[v] = total ? static_cast<uint8_t>(below * groups / total) : 0;
+    while (total && below * groups >= next) ++group, next += total;
+    table[v] = static_cast<uint8_t>(group);
     below += histogram[v];
   }
 }
