@@ -43,8 +43,9 @@ void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::
 cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 
 // Normals as PCL's IntegralImageNormalEstimation (COVARIANCE_MATRIX) does
-// them: the covariance of the points in a square window comes from integral
-// images of the point moments in O(1) per pixel, and its smallest eigenvector
+// them: the covariance of the points in a square window comes from box sums
+// of the point moments in O(1) per pixel (sliding sums, where PCL uses
+// integral images), and its smallest eigenvector
 // (power iteration on its adjugate, no trigonometry) is the normal. A window
 // never mixes two surfaces: near a depth jump it takes only the points of the
 // centre's own surface (PCL uses a depth-change map for the same purpose).
