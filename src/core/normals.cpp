@@ -205,11 +205,10 @@ void fitRow(RowCovariances& cov, const cv::Vec3f* centres, const int* label, flo
   // adj(C) of a collinear window (l2 = 0) is zero up to rounding: it has
   // no plane. Its dominant eigenvalue l2 l3 must clear float's noise.
   constexpr float kMinPlaneness = 1e-6f;
-  const float *__restrict cn = cov.n.data(), *__restrict ca = cov.a.data(), *__restrict cb = cov.b.data();
-  const float *__restrict cc = cov.c.data(), *__restrict cd = cov.d.data(), *__restrict ce = cov.e.data();
-  const float* __restrict cf = cov.f.data();
-  float *__restrict nx = cov.nx.data(), *__restrict ny = cov.ny.data(), *__restrict nz = cov.nz.data();
-#pragma GCC ivdep  // the arrays are distinct (GCC does not trust a local's __restrict)
+  const float *cn = cov.n.data(), *ca = cov.a.data(), *cb = cov.b.data(), *cc = cov.c.data();
+  const float *cd = cov.d.data(), *ce = cov.e.data(), *cf = cov.f.data();
+  float *nx = cov.nx.data(), *ny = cov.ny.data(), *nz = cov.nz.data();
+#pragma GCC ivdep  // the arrays are distinct (GCC ignores __restrict on local pointers)
   for (int u = 0; u < cols; ++u) {
     // Bitwise & and arithmetic on safe operands, selected afterwards: the
     // loop stays free of branches and vectorises.
@@ -338,7 +337,9 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
         const float* low = b.window_low.ptr<float>(v);
         const float* high = b.window_high.ptr<float>(v);
         for (int u = 0; u < cols; ++u) {
-          if (label[u] != 0 && low[u] != high[u]) sameSurfaceCovariance(points, surfaces, v, u, radius, band.covariances);
+          if (label[u] != 0 && low[u] != high[u]) {
+            sameSurfaceCovariance(points, surfaces, v, u, radius, band.covariances);
+          }
         }
         fitRow(band.covariances, points.ptr<cv::Vec3f>(v), label, static_cast<float>(min_points), cols,
                normals.ptr<cv::Vec3f>(v));
