@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include <cmath>
+#include <vector>
 
 namespace risas {
 
@@ -39,6 +40,10 @@ struct FrameGeometry {
 // The output must not share data with anything still in use.
 
 // Back-projects every pixel with fx and fy (the reference used fx for both).
+// x = (u - cx) z / fx, so the factor of z is one per column (and per row for
+// y): rayFactors(cols, cx, fx) tabulates them, and backProject and the
+// normals' grid share it, so they give the very same points.
+std::vector<float> rayFactors(int count, double centre, double focal);
 void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::Mat& points);
 cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 
@@ -52,8 +57,10 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // The fits run on a grid of normal_stride x normal_stride block means (the
 // window holds the grid points within normal_radius pixels): normals has one
 // per block, on_block_surface marks the pixels each belongs to (see
-// FrameGeometry).
-void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals, cv::Mat& on_block_surface);
+// FrameGeometry). The block means come straight from the depth (CV_32FC1,
+// metres, NaN where missing), back-projected as backProject does it.
+void estimateNormals(const cv::Mat& depth_metres, const Intrinsics& intrinsics, const GeometryParams& params,
+                     cv::Mat& normals, cv::Mat& on_block_surface);
 
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry);
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);

@@ -25,8 +25,10 @@ struct GeometryParams {
   // Normals are fitted on a grid of normal_stride x normal_stride blocks,
   // each the mean of its points on one surface, and a pixel on that surface
   // takes its block's normal (neighbouring windows overlap almost
-  // entirely). 1: a fit at every pixel.
-  int normal_stride = 2;
+  // entirely). 1: a fit at every pixel. (The default stride has a compiled
+  // fast path.)
+  static constexpr int kDefaultNormalStride = 2;
+  int normal_stride = kDefaultNormalStride;
 
   void validate() const;
   void write(cv::FileStorage& fs) const;

@@ -4,19 +4,24 @@
 
 namespace risas {
 
+std::vector<float> rayFactors(int count, double centre, double focal) {
+  std::vector<float> factors(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) factors[static_cast<size_t>(i)] = static_cast<float>((i - centre) / focal);
+  return factors;
+}
+
 void backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics, cv::Mat& points) {
   CV_Assert(depth_metres.type() == CV_32FC1);
   points.create(depth_metres.size(), CV_32FC3);
-  // x = (u - cx) z / fx: the factor of z is one per column, tabulated.
-  std::vector<float> x_factor(static_cast<size_t>(depth_metres.cols));
-  for (int u = 0; u < depth_metres.cols; ++u) x_factor[static_cast<size_t>(u)] = static_cast<float>((u - intrinsics.cx) / intrinsics.fx);
+  const std::vector<float> x_factor = rayFactors(depth_metres.cols, intrinsics.cx, intrinsics.fx);
+  const std::vector<float> y_factor = rayFactors(depth_metres.rows, intrinsics.cy, intrinsics.fy);
   cv::parallel_for_(cv::Range(0, depth_metres.rows), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
-      const float y_factor = static_cast<float>((v - intrinsics.cy) / intrinsics.fy);
+      const float y = y_factor[static_cast<size_t>(v)];
       const float* z = depth_metres.ptr<float>(v);
       cv::Vec3f* p = points.ptr<cv::Vec3f>(v);
       for (int u = 0; u < depth_metres.cols; ++u) {
-        p[u] = cv::Vec3f(x_factor[static_cast<size_t>(u)] * z[u], y_factor * z[u], z[u]);  // NaN depth gives a NaN point
+        p[u] = cv::Vec3f(x_factor[static_cast<size_t>(u)] * z[u], y * z[u], z[u]);  // NaN depth gives a NaN point
       }
     }
   });
@@ -32,7 +37,7 @@ void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, Frame
   params.validate();
   backProject(frame.depth(), frame.intrinsics(), geometry.points);
   geometry.normal_stride = params.normal_stride;
-  estimateNormals(geometry.points, params, geometry.normals, geometry.on_block_surface);
+  estimateNormals(frame.depth(), frame.intrinsics(), params, geometry.normals, geometry.on_block_surface);
 }
 
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params) {

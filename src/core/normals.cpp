@@ -104,37 +104,101 @@ void boxCovariances(const RowMoments& columns, int cols, int radius, RowMoments&
   }
 }
 
+// A cloud of points as three planes of coordinates.
+struct GridCloud {
+  cv::Mat x, y, z;  // CV_32FC1, metres; NaN where there is no point
+};
+
+// The per-thread sums of one row of blocks (see gridPoints).
+struct BlockRowSums {
+  std::vector<float> first, count, sum_x, sum_y, sum_z;
+};
+
+// Row i of the grid (see gridPoints). Stride is an int or, for the default
+// stride, a compile-time constant: the loops over blocks then read the
+// depth row with a fixed step, which the compiler vectorises.
+template <class Stride>
+void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, float y_factor_of_row[], int i, Stride stride,
+             float depth_change_factor, BlockRowSums& sums, GridCloud& grid, cv::Mat& on_surface) {
+  const int rows = depth.rows, cols = depth.cols, grid_cols = grid.z.cols;
+  float *f = sums.first.data(), *n = sums.count.data();
+  float *sx = sums.sum_x.data(), *sy = sums.sum_y.data(), *sz = sums.sum_z.data();
+  const int r_begin = i * stride, r_end = std::min(r_begin + static_cast<int>(stride), rows);
+  std::fill(sums.first.begin(), sums.first.end(), std::numeric_limits<float>::quiet_NaN());
+  for (std::vector<float>* v : {&sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) std::fill(v->begin(), v->end(), 0.0f);
+  // Block column j holds image columns j stride + k; visiting k inside r
+  // keeps each block's row-major order.
+  for (int r = r_begin; r < r_end; ++r) {
+    const float* z = depth.ptr<float>(r);
+    for (int k = 0; k < stride; ++k) {
+      const int blocks = (cols - k + stride - 1) / stride;
+      for (int j = 0; j < blocks; ++j) {
+        const float candidate = z[j * stride + k];  // loaded unconditionally: the loop vectorises
+        f[j] = std::isnan(f[j]) ? candidate : f[j];
+      }
+    }
+  }
+  for (int r = r_begin; r < r_end; ++r) {
+    const float* z = depth.ptr<float>(r);
+    const float y = y_factor_of_row[r - r_begin];
+    uchar* on = on_surface.ptr<uchar>(r);
+    for (int k = 0; k < stride; ++k) {
+      const int blocks = (cols - k + stride - 1) / stride;
+      const float* x = x_factor.data() + k;
+#pragma GCC ivdep  // the arrays are distinct
+      for (int j = 0; j < blocks; ++j) {
+        const int c = j * stride;
+        // NaN compares false: a missing point is on no surface.
+        const bool in = std::abs(z[c + k] - f[j]) <= depth_change_factor * f[j];
+        const float w = in ? 1.0f : 0.0f, zc = in ? z[c + k] : 0.0f;
+        on[c + k] = in ? 255 : 0;
+        n[j] += w;
+        sx[j] += x[c] * zc;
+        sy[j] += y * zc;
+        sz[j] += zc;
+      }
+    }
+  }
+  float *gx = grid.x.ptr<float>(i), *gy = grid.y.ptr<float>(i), *gz = grid.z.ptr<float>(i);
+#pragma GCC ivdep  // the arrays are distinct
+  for (int j = 0; j < grid_cols; ++j) {
+    // A block without a point has the sums 0 and the count 0: 0 / 0 makes
+    // its grid point NaN.
+    const float inv = 1.0f / n[j];
+    gx[j] = sx[j] * inv;
+    gy[j] = sy[j] * inv;
+    gz[j] = sz[j] * inv;
+  }
+}
+
 // The grid the normals are fitted on: one point per stride x stride block
 // (partial blocks at the right and bottom edges), the mean of the block's
-// points on the same surface as its first valid one. All of those points
-// weigh in, so the grid does not alias the depth noise. on_surface marks them:
-// they are the pixels the block's normal belongs to.
-void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv::Mat& grid, cv::Mat& on_surface) {
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  grid.create((points.rows + stride - 1) / stride, (points.cols + stride - 1) / stride, CV_32FC3);
-  on_surface.create(points.size(), CV_8UC1);
-  cv::parallel_for_(cv::Range(0, grid.rows), [&](const cv::Range& grid_rows) {
-    for (int i = grid_rows.start; i < grid_rows.end; ++i) {
-      cv::Vec3f* g = grid.ptr<cv::Vec3f>(i);
-      const int r_end = std::min((i + 1) * stride, points.rows);
-      for (int j = 0; j < grid.cols; ++j) {
-        const int c_end = std::min((j + 1) * stride, points.cols);
-        cv::Vec3f sum(0, 0, 0), first(nan, nan, nan);
-        int count = 0;
-        for (int r = i * stride; r < r_end; ++r) {
-          const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-          uchar* on = on_surface.ptr<uchar>(r);
-          for (int c = j * stride; c < c_end; ++c) {
-            on[c] = 0;
-            if (std::isnan(p[c][2])) continue;
-            if (count == 0) first = p[c];
-            if (std::abs(p[c][2] - first[2]) > depth_change_factor * first[2]) continue;
-            on[c] = 255;
-            sum += p[c];
-            ++count;
-          }
-        }
-        g[j] = count ? sum * (1.0f / count) : first;
+// points on the same surface as its first valid one (in row-major order). All
+// of those points weigh in, so the grid does not alias the depth noise.
+// on_surface marks them: they are the pixels the block's normal belongs to.
+// Computed from the depth and the back-projection factors, which give the
+// very points backProject gives, and written as x, y and z planes, which the
+// loops over blocks vectorise (an interleaved point does not load in one).
+void gridPoints(const cv::Mat& depth, const Intrinsics& intrinsics, int stride, float depth_change_factor,
+                GridCloud& grid, cv::Mat& on_surface) {
+  const int rows = depth.rows, cols = depth.cols;
+  const int grid_rows = (rows + stride - 1) / stride, grid_cols = (cols + stride - 1) / stride;
+  for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) plane->create(grid_rows, grid_cols, CV_32FC1);
+  on_surface.create(depth.size(), CV_8UC1);
+  const std::vector<float> x_factor = rayFactors(cols, intrinsics.cx, intrinsics.fx);
+  std::vector<float> y_factor = rayFactors(rows, intrinsics.cy, intrinsics.fy);
+  cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
+    thread_local BlockRowSums sums;
+    for (std::vector<float>* v : {&sums.first, &sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
+      v->resize(static_cast<size_t>(grid_cols));
+    }
+    for (int i = range.start; i < range.end; ++i) {
+      float* y = y_factor.data() + i * stride;
+      if (stride == GeometryParams::kDefaultNormalStride) {
+        gridRow(depth, x_factor, y, i, std::integral_constant<int, GeometryParams::kDefaultNormalStride>(), depth_change_factor, sums, grid,
+                on_surface);
+      } else {
+        gridRow(depth, x_factor, y, i, stride, depth_change_factor, sums, grid, on_surface);
       }
     }
   });
@@ -143,26 +207,27 @@ void gridPoints(const cv::Mat& points, int stride, float depth_change_factor, cv
 // 0 at points with no depth or bordering a different surface (a depth jump to
 // a 4-neighbour or a missing neighbour, which on Kinect-type sensors is the
 // shadow of a jump), 255 elsewhere: the interiors of surfaces.
-void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::Mat& mask) {
-  mask.create(points.size(), CV_8UC1);
-  const int rows = points.rows, cols = points.cols;
+void surfaceInteriorMask(const cv::Mat& depth, float depth_change_factor, cv::Mat& mask) {
+  mask.create(depth.size(), CV_8UC1);
+  const int rows = depth.rows, cols = depth.cols;
   cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
     for (int r = range.start; r < range.end; ++r) {
-      const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-      const cv::Vec3f* above = points.ptr<cv::Vec3f>(std::max(r - 1, 0));
-      const cv::Vec3f* below = points.ptr<cv::Vec3f>(std::min(r + 1, rows - 1));
+      const float* z = depth.ptr<float>(r);
+      const float* above = depth.ptr<float>(std::max(r - 1, 0));
+      const float* below = depth.ptr<float>(std::min(r + 1, rows - 1));
       uchar* m = mask.ptr<uchar>(r);
-      for (int c = 0; c < cols; ++c) {
-        const float z = p[c][2];
-        const float limit = depth_change_factor * z;
-        // NaN compares false: a missing neighbour fails the test, as does a
-        // missing centre. Outside the image counts as the centre itself.
-        const auto same = [&](float zn) { return std::abs(zn - z) <= limit; };
-        m[c] = same(above[c][2]) && same(below[c][2]) && same(p[std::max(c - 1, 0)][2]) &&
-                       same(p[std::min(c + 1, cols - 1)][2])
-                   ? 255
-                   : 0;
-      }
+      // Copied: the byte stores could alias anything read through a reference.
+      const float factor = depth_change_factor;
+      const int width = cols;
+      // NaN compares false: a missing neighbour fails the test, as does a
+      // missing centre. Outside the image counts as the centre itself.
+      const auto same = [=](int c, float neighbour) { return std::abs(neighbour - z[c]) <= factor * z[c]; };
+      const auto interior = [=](int c, float left, float right) {
+        return same(c, above[c]) & same(c, below[c]) & same(c, left) & same(c, right);
+      };
+      m[0] = interior(0, z[0], z[std::min(1, width - 1)]) ? 255 : 0;
+      for (int c = 1; c < width - 1; ++c) m[c] = interior(c, z[c - 1], z[c + 1]) ? 255 : 0;  // vectorised
+      if (width > 1) m[width - 1] = interior(width - 1, z[width - 2], z[width - 1]) ? 255 : 0;
     }
   });
 }
@@ -171,17 +236,17 @@ void surfaceInteriorMask(const cv::Mat& points, float depth_change_factor, cv::M
 // the O(window) path for points near a jump, where a plain box would mix
 // surfaces. Taken about the centre (the covariance does not change), where
 // the offsets are centimetres and float sums are exact enough.
-void sameSurfaceCovariance(const cv::Mat& points, const cv::Mat& surfaces, int v, int u, int radius,
+void sameSurfaceCovariance(const GridCloud& grid, const cv::Mat& surfaces, int v, int u, int radius,
                            RowCovariances& out) {
   const int label = surfaces.at<int>(v, u);
-  const cv::Vec3f centre = points.at<cv::Vec3f>(v, u);
+  const float cx = grid.x.at<float>(v, u), cy = grid.y.at<float>(v, u), cz = grid.z.at<float>(v, u);
   float n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
-  for (int r = std::max(v - radius, 0); r <= std::min(v + radius, points.rows - 1); ++r) {
+  for (int r = std::max(v - radius, 0); r <= std::min(v + radius, surfaces.rows - 1); ++r) {
     const int* l = surfaces.ptr<int>(r);
-    const cv::Vec3f* p = points.ptr<cv::Vec3f>(r);
-    for (int c = std::max(u - radius, 0); c <= std::min(u + radius, points.cols - 1); ++c) {
+    const float *px = grid.x.ptr<float>(r), *py = grid.y.ptr<float>(r), *pz = grid.z.ptr<float>(r);
+    for (int c = std::max(u - radius, 0); c <= std::min(u + radius, surfaces.cols - 1); ++c) {
       if (l[c] != label) continue;
-      const float dx = p[c][0] - centre[0], dy = p[c][1] - centre[1], dz = p[c][2] - centre[2];
+      const float dx = px[c] - cx, dy = py[c] - cy, dz = pz[c] - cz;
       n += 1; x += dx; y += dy; z += dz;
       xx += dx * dx; xy += dx * dy; xz += dx * dz; yy += dy * dy; yz += dy * dz; zz += dz * dz;
     }
@@ -200,8 +265,8 @@ void sameSurfaceCovariance(const cv::Mat& points, const cv::Mat& surfaces, int v
 // sharpen it by (l1/l2)^2 each: no trigonometric eigen-solver per pixel.
 // Branch-free, in float, over the row: C is scaled to unit trace first, so
 // every product stays far from float's range limits.
-void fitRow(RowCovariances& cov, const cv::Vec3f* centres, const int* label, float min_points, int cols,
-            cv::Vec3f* normals) {
+void fitRow(RowCovariances& cov, const float* centre_x, const float* centre_y, const float* centre_z,
+            const int* label, float min_points, int cols, cv::Vec3f* normals) {
   // adj(C) of a collinear window (l2 = 0) is zero up to rounding: it has
   // no plane. Its dominant eigenvalue l2 l3 must clear float's noise.
   constexpr float kMinPlaneness = 1e-6f;
@@ -248,15 +313,15 @@ void fitRow(RowCovariances& cov, const cv::Vec3f* centres, const int* label, flo
   // Facing the camera. A centre without a point (NaN) has no fit: (0, 0, 0).
   for (int u = 0; u < cols; ++u) {
     const cv::Vec3f n(nx[u], ny[u], nz[u]);
-    normals[u] = n.dot(centres[u]) > 0.0f ? -n : n;
+    normals[u] = n.dot(cv::Vec3f(centre_x[u], centre_y[u], centre_z[u])) > 0.0f ? -n : n;
   }
 }
 
 // The images of one frame's normals, one set per thread and reused from frame
 // to frame: allocated afresh, their page faults cost as much as the fits.
 struct NormalBuffers {
-  cv::Mat grid_points, interior, surfaces, labels_low, labels_high, window_low, window_high;
-  std::vector<cv::Mat> coordinates;
+  GridCloud grid;
+  cv::Mat interior, surfaces, labels_low, labels_high, window_low, window_high;
 };
 
 NormalBuffers& buffers() {
@@ -293,10 +358,10 @@ struct BandBuffers {
 
 // Normals fitted at every point of a (grid) cloud, windows of half-width
 // radius; (0, 0, 0) where none.
-void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, int min_points, cv::Mat& normals) {
+void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, int min_points, cv::Mat& normals) {
   NormalBuffers& b = buffers();
   const cv::Mat& interior = b.interior;
-  surfaceInteriorMask(points, depth_change_factor, b.interior);
+  surfaceInteriorMask(grid.z, depth_change_factor, b.interior);
   // A window takes only the points of the centre's own surface: the
   // connected part of the interior it lies in. Border points themselves
   // (label 0) get no normal and count in no window.
@@ -312,9 +377,8 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
   // leaving it. The bands are fixed, not the threads' share, so the sums,
   // rounding and all, do not depend on the number of threads.
   constexpr int kBandRows = 16;
-  const int rows = points.rows, cols = points.cols;
-  cv::split(points, b.coordinates);  // x, y and z planes: the row loops read them as plain arrays
-  normals.create(points.size(), CV_32FC3);
+  const int rows = grid.z.rows, cols = grid.z.cols;
+  normals.create(grid.z.size(), CV_32FC3);
   cv::parallel_for_(cv::Range(0, (rows + kBandRows - 1) / kBandRows), [&](const cv::Range& bands) {
     thread_local BandBuffers band;
     band.covariances.resize(cols);
@@ -323,8 +387,8 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
       const int v_begin = i * kBandRows, v_end = std::min(v_begin + kBandRows, rows);
       band.columns.reset(cols);
       const auto accumulate = [&](int r, double sign) {
-        band.columns.accumulate(b.coordinates[0].ptr<float>(r), b.coordinates[1].ptr<float>(r),
-                                b.coordinates[2].ptr<float>(r), interior.ptr<uchar>(r), sign);
+        band.columns.accumulate(grid.x.ptr<float>(r), grid.y.ptr<float>(r), grid.z.ptr<float>(r),
+                                interior.ptr<uchar>(r), sign);
       };
       for (int r = std::max(v_begin - radius, 0); r <= std::min(v_begin + radius, rows - 1); ++r) accumulate(r, 1.0);
       for (int v = v_begin; v < v_end; ++v) {
@@ -338,11 +402,11 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
         const float* high = b.window_high.ptr<float>(v);
         for (int u = 0; u < cols; ++u) {
           if (label[u] != 0 && low[u] != high[u]) {
-            sameSurfaceCovariance(points, surfaces, v, u, radius, band.covariances);
+            sameSurfaceCovariance(grid, surfaces, v, u, radius, band.covariances);
           }
         }
-        fitRow(band.covariances, points.ptr<cv::Vec3f>(v), label, static_cast<float>(min_points), cols,
-               normals.ptr<cv::Vec3f>(v));
+        fitRow(band.covariances, grid.x.ptr<float>(v), grid.y.ptr<float>(v), grid.z.ptr<float>(v), label,
+               static_cast<float>(min_points), cols, normals.ptr<cv::Vec3f>(v));
       }
     }
   });
@@ -350,16 +414,17 @@ void fitNormals(const cv::Mat& points, int radius, float depth_change_factor, in
 
 }  // namespace
 
-void estimateNormals(const cv::Mat& points, const GeometryParams& params, cv::Mat& normals, cv::Mat& on_block_surface) {
-  CV_Assert(points.type() == CV_32FC3);
+void estimateNormals(const cv::Mat& depth_metres, const Intrinsics& intrinsics, const GeometryParams& params,
+                     cv::Mat& normals, cv::Mat& on_block_surface) {
+  CV_Assert(depth_metres.type() == CV_32FC1);
   const int stride = params.normal_stride;
   // On the grid, a jump is measured over stride pixels and the window holds
   // the grid points within normal_radius pixels of the centre.
   const float factor = static_cast<float>(params.depth_change_factor);
   const int grid_radius = std::max(1, (params.normal_radius + stride - 1) / stride);
   NormalBuffers& b = buffers();
-  gridPoints(points, stride, factor, b.grid_points, on_block_surface);
-  fitNormals(b.grid_points, grid_radius, factor * stride, params.min_normal_points, normals);
+  gridPoints(depth_metres, intrinsics, stride, factor, b.grid, on_block_surface);
+  fitNormals(b.grid, grid_radius, factor * stride, params.min_normal_points, normals);
 }
 
 }  // namespace risas
