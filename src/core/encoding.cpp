@@ -2,6 +2,8 @@
 
 #include "risas/ranking.hpp"
 
+#include "normal_stride.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -37,43 +39,53 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   const float rho_bar = static_cast<float>(params_.rho_threshold);
   constexpr int kRhoLevels = 256;
 
-  // The counted samples, in per-thread buffers reused across keypoints.
+  // The counted samples, in a per-thread buffer reused across keypoints.
   struct Sample {
     uint8_t sector, intensity;
     uint16_t rho_level;  // kRhoLevels for a flat sample (rho >= rho-bar)
   };
   thread_local std::vector<Sample> samples;
-  samples.clear();
-  int intensity_count[256] = {}, rho_count[kRhoLevels] = {};
-  for (const DiscSample& s : disc_) {
-    // Patch x axis along theta, y axis 90 degrees on (image v points down).
-    const float x = cu + cos_t * s.i - sin_t * s.j;
-    const float y = cv_ + sin_t * s.i + cos_t * s.j;
-    if (!(x >= 0.0f && y >= 0.0f && x <= max_u && y <= max_v)) continue;
-    const int u = cvRound(x), v = cvRound(y);
-    const cv::Vec3f& p = geometry.points.at<cv::Vec3f>(v, u);
-    if (!geometry.hasNormal(v, u)) continue;  // also no point
-    const cv::Vec3f& n = geometry.normal(v, u);
-    const cv::Vec3f d = p - k;
-    if (d.dot(d) >= t2) continue;  // background (eq. 5)
+  samples.resize(disc_.size());
+  int counted = 0;
+  // rho_count[kRhoLevels] counts the flat samples, which are not ranked.
+  int intensity_count[256] = {}, rho_count[kRhoLevels + 1] = {};
+  withNormalStride(geometry.normal_stride, [&](auto stride) {
+    for (const DiscSample& s : disc_) {
+      // Patch x axis along theta, y axis 90 degrees on (image v points down).
+      const float x = cu + cos_t * s.i - sin_t * s.j;
+      const float y = cv_ + sin_t * s.i + cos_t * s.j;
+      if (!(x >= 0.0f && y >= 0.0f && x <= max_u && y <= max_v)) continue;
+      const int u = cvRound(x), v = cvRound(y);  // not negative
+      // FrameGeometry::hasNormal and normal, with the stride's division
+      // compiled to a shift for the default stride.
+      if (!geometry.on_block_surface.at<uchar>(v, u)) continue;
+      const unsigned block_stride = stride;
+      const cv::Vec3f& n = geometry.normals.at<cv::Vec3f>(static_cast<unsigned>(v) / block_stride,
+                                                          static_cast<unsigned>(u) / block_stride);
+      if (n[2] == 0.0f) continue;  // also no point
+      const cv::Vec3f d = geometry.points.at<cv::Vec3f>(v, u) - k;
+      if (d.dot(d) >= t2) continue;  // background (eq. 5)
 
-    const int u0 = std::min(static_cast<int>(x), gray.cols - 2), v0 = std::min(static_cast<int>(y), gray.rows - 2);
-    const float a = x - u0, b = y - v0;
-    const uchar* row0 = gray.ptr<uchar>(v0);
-    const uchar* row1 = gray.ptr<uchar>(v0 + 1);
-    const float intensity = (1 - b) * ((1 - a) * row0[u0] + a * row0[u0 + 1]) + b * ((1 - a) * row1[u0] + a * row1[u0 + 1]);
-    const uint8_t level = static_cast<uint8_t>(intensity + 0.5f);  // rounded; intensity is in [0, 255]
+      const int u0 = std::min(static_cast<int>(x), gray.cols - 2);
+      const int v0 = std::min(static_cast<int>(y), gray.rows - 2);
+      const float a = x - u0, b = y - v0;
+      const uchar* row0 = gray.ptr<uchar>(v0);
+      const uchar* row1 = gray.ptr<uchar>(v0 + 1);
+      const float intensity =
+          (1 - b) * ((1 - a) * row0[u0] + a * row0[u0 + 1]) + b * ((1 - a) * row1[u0] + a * row1[u0 + 1]);
+      const uint8_t level = static_cast<uint8_t>(intensity + 0.5f);  // rounded; intensity is in [0, 255]
 
-    // Shape: the flat majority (rho >= rho-bar) is one label; the rest are
-    // ranked on kRhoLevels levels of rho / rho-bar.
-    const float rho = std::abs(n_k.dot(n));
-    const uint16_t rho_level =
-        rho >= rho_bar ? kRhoLevels : static_cast<uint16_t>(std::min(kRhoLevels - 1, static_cast<int>(rho / rho_bar * kRhoLevels)));
-    samples.push_back({static_cast<uint8_t>(s.sector), level, rho_level});
-    ++intensity_count[level];
-    if (rho_level < kRhoLevels) ++rho_count[rho_level];
-  }
-  const int counted = static_cast<int>(samples.size());
+      // Shape: the flat majority (rho >= rho-bar) is one label; the rest are
+      // ranked on kRhoLevels levels of rho / rho-bar. (Both computed, one
+      // selected: whether a sample is flat is not predictable.)
+      const float rho = std::abs(n_k.dot(n));
+      const int ranked = std::min(kRhoLevels - 1, static_cast<int>(rho / rho_bar * kRhoLevels));
+      const uint16_t rho_level = static_cast<uint16_t>(rho >= rho_bar ? kRhoLevels : ranked);
+      samples[static_cast<size_t>(counted++)] = {static_cast<uint8_t>(s.sector), level, rho_level};
+      ++intensity_count[level];
+      ++rho_count[rho_level];
+    }
+  });
   if (counted < params_.min_valid_fraction * disc_.size() || counted < 3) return false;
 
   // Rank groups by counting sort: a sample's group depends only on its
@@ -85,7 +97,8 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
 
   const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
   std::fill(out, out + dimension(), 0.0f);
-  for (const Sample& sample : samples) {
+  for (int i = 0; i < counted; ++i) {
+    const Sample& sample = samples[static_cast<size_t>(i)];
     ++out[(sample.sector * n_bin + intensity_label[sample.intensity]) * n_shape + shape_label[sample.rho_level]];
   }
   float norm = 0.0f;

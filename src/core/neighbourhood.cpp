@@ -3,9 +3,12 @@
 #include "risas/ranking.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/core/hal/intrin.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
 #include <vector>
 
 namespace risas {
@@ -66,40 +69,60 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   nb.initial_radius_px = initial_radius_px;
 
   const int radius = static_cast<int>(std::ceil(initial_radius_px));
-  const float t2 = static_cast<float>(background_distance * background_distance);
   const float r2 = initial_radius_px * initial_radius_px;
-  const cv::Vec3f& k_f = geometry.points.at<cv::Vec3f>(v0, u0);
   // Offsets from k_i are centimetres: float sums of a few thousand of them
-  // keep far more precision than the depth has.
-  float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+  // keep far more precision than the depth has. Four pixels at a time, their
+  // points de-interleaved into x, y and z lanes.
+  using cv::v_float32x4;
+  const v_float32x4 kx = cv::v_setall_f32(k[0]), ky = cv::v_setall_f32(k[1]), kz = cv::v_setall_f32(k[2]);
+  const v_float32x4 t2 = cv::v_setall_f32(static_cast<float>(background_distance * background_distance));
+  v_float32x4 sx = cv::v_setzero_f32(), sy = sx, sz = sx, sxx = sx, sxy = sx, sxz = sx, syy = sx, syz = sx, szz = sx;
   // Per grey level: how many kept pixels have it, and the sum of their image
   // offsets. The rank-weighted centroid below needs nothing more.
   int count[256] = {};
   int offset_u[256] = {}, offset_v[256] = {};
+  // Pixels u .. u + 3 of a row: x, y, z of their points in xyz.
+  const auto accumulate = [&](const float* xyz, const uchar* gray, int u, int dv) {
+    v_float32x4 x, y, z;
+    cv::v_load_deinterleave(xyz, x, y, z);
+    x = x - kx, y = y - ky, z = z - kz;
+    // eq. 5: background beyond t (a NaN point compares false and is dropped)
+    const v_float32x4 kept = (x * x + y * y + z * z) < t2;
+    x = x & kept, y = y & kept, z = z & kept;
+    sx += x, sy += y, sz += z;
+    sxx += x * x, sxy += x * y, sxz += x * z, syy += y * y, syz += y * z, szz += z * z;
+    const int lanes = cv::v_signmask(kept);
+    for (int i = 0; i < 4; ++i) {
+      if (!(lanes >> i & 1)) continue;
+      const uchar g = gray[u + i];
+      ++count[g];
+      offset_u[g] += u + i - u0;
+      offset_v[g] += dv;
+    }
+  };
   for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
     const float row_r2 = r2 - static_cast<float>(dv * dv);
     if (row_r2 < 0.0f) continue;
     const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
     const cv::Vec3f* p = geometry.points.ptr<cv::Vec3f>(v0 + dv);
     const uchar* gray = frame.gray().ptr<uchar>(v0 + dv);
-    for (int u = std::max(u0 - half, 0); u <= std::min(u0 + half, size.width - 1); ++u) {
-      const float dx = p[u][0] - k_f[0], dy = p[u][1] - k_f[1], dz = p[u][2] - k_f[2];
-      // eq. 5: background beyond t (a NaN point compares false and is dropped)
-      if (!(dx * dx + dy * dy + dz * dz < t2)) continue;
-      sx += dx; sy += dy; sz += dz;
-      sxx += dx * dx; sxy += dx * dy; sxz += dx * dz; syy += dy * dy; syz += dy * dz; szz += dz * dz;
-      const uchar g = gray[u];
-      ++count[g];
-      offset_u[g] += u - u0;
-      offset_v[g] += dv;
+    const int u_end = std::min(u0 + half, size.width - 1) + 1;
+    int u = std::max(u0 - half, 0);
+    for (; u + 4 <= u_end; u += 4) accumulate(&p[u][0], gray, u, dv);
+    if (u < u_end) {  // the row's last pixels, padded with NaN points, which are never kept
+      cv::Vec3f tail[4];
+      std::fill(std::begin(tail), std::end(tail), cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN()));
+      std::copy(p + u, p + u_end, tail);
+      accumulate(&tail[0][0], gray, u, dv);
     }
   }
   for (int g = 0; g < 256; ++g) nb.kept += count[g];
   if (nb.kept < 3) return std::nullopt;
   const double inv = 1.0 / nb.kept;
-  const Eigen::Vector3d mean_offset = Eigen::Vector3d(sx, sy, sz) * inv;
+  const auto sum = [](const v_float32x4& lanes) -> double { return cv::v_reduce_sum(lanes); };
+  const Eigen::Vector3d mean_offset = Eigen::Vector3d(sum(sx), sum(sy), sum(sz)) * inv;
   nb.centroid = nb.point + mean_offset;
-  nb.spread << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+  nb.spread << sum(sxx), sum(sxy), sum(sxz), sum(sxy), sum(syy), sum(syz), sum(sxz), sum(syz), sum(szz);
   nb.spread *= inv;
   nb.covariance = nb.spread - mean_offset * mean_offset.transpose();
   // The intensity centroid from ranks, not intensities, so that a monotonic

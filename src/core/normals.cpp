@@ -1,5 +1,7 @@
 #include "risas/geometry.hpp"
 
+#include "normal_stride.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -115,11 +117,11 @@ struct BlockRowSums {
 };
 
 // Row i of the grid (see gridPoints). Stride is an int or, for the default
-// stride, a compile-time constant: the loops over blocks then read the
-// depth row with a fixed step, which the compiler vectorises.
+// stride, a compile-time constant (withNormalStride): the loops over blocks
+// then read the depth row with a fixed step, which the compiler vectorises.
 template <class Stride>
-void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, float y_factor_of_row[], int i, Stride stride,
-             float depth_change_factor, BlockRowSums& sums, GridCloud& grid, cv::Mat& on_surface) {
+void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const float* y_factor_of_row, int i,
+             Stride stride, float depth_change_factor, BlockRowSums& sums, GridCloud& grid, cv::Mat& on_surface) {
   const int rows = depth.rows, cols = depth.cols, grid_cols = grid.z.cols;
   float *f = sums.first.data(), *n = sums.count.data();
   float *sx = sums.sum_x.data(), *sy = sums.sum_y.data(), *sz = sums.sum_z.data();
@@ -186,20 +188,17 @@ void gridPoints(const cv::Mat& depth, const Intrinsics& intrinsics, int stride, 
   for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) plane->create(grid_rows, grid_cols, CV_32FC1);
   on_surface.create(depth.size(), CV_8UC1);
   const std::vector<float> x_factor = rayFactors(cols, intrinsics.cx, intrinsics.fx);
-  std::vector<float> y_factor = rayFactors(rows, intrinsics.cy, intrinsics.fy);
+  const std::vector<float> y_factor = rayFactors(rows, intrinsics.cy, intrinsics.fy);
   cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
     thread_local BlockRowSums sums;
     for (std::vector<float>* v : {&sums.first, &sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
       v->resize(static_cast<size_t>(grid_cols));
     }
     for (int i = range.start; i < range.end; ++i) {
-      float* y = y_factor.data() + i * stride;
-      if (stride == GeometryParams::kDefaultNormalStride) {
-        gridRow(depth, x_factor, y, i, std::integral_constant<int, GeometryParams::kDefaultNormalStride>(), depth_change_factor, sums, grid,
-                on_surface);
-      } else {
-        gridRow(depth, x_factor, y, i, stride, depth_change_factor, sums, grid, on_surface);
-      }
+      const float* y = y_factor.data() + i * stride;
+      withNormalStride(stride, [&](auto fixed_stride) {
+        gridRow(depth, x_factor, y, i, fixed_stride, depth_change_factor, sums, grid, on_surface);
+      });
     }
   });
 }
