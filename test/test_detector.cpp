@@ -45,6 +45,25 @@ TEST(MainNormal, IsTheDominantPlanesNormal) {
   EXPECT_NEAR(cv::norm(n_main), 1.0, 1e-5);
 }
 
+TEST(MainNormal, IsTheMeanOfTheMostFrequentLabelsNormals) {
+  // 3 x 7 blocks: 9 without a normal (which would share a label triple if
+  // they counted), 7 near a, 5 near b; the row ends (columns 4 to 6) are
+  // loaded apart from the fours before them.
+  const cv::Vec3f a = cv::normalize(cv::Vec3f(0.2f, 0.1f, -1.0f)), b = cv::normalize(cv::Vec3f(-0.8f, 0.1f, -0.6f));
+  const cv::Vec3f a2 = cv::normalize(cv::Vec3f(0.25f, 0.1f, -1.0f)), none(0, 0, 0);
+  const cv::Vec3f layout[3][7] = {{none, none, none, b, a, a2, a},
+                                  {none, b, none, none, a, a, b},
+                                  {none, none, b, none, a2, b, a}};
+  cv::Mat normals(3, 7, CV_32FC3);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 7; ++c) normals.at<cv::Vec3f>(r, c) = layout[r][c];
+  }
+  const cv::Vec3d mean = cv::normalize(cv::Vec3d(5 * cv::Vec3d(a) + 2 * cv::Vec3d(a2)));
+  const cv::Vec3f n_main = computeMainNormal(normals, 4);
+  EXPECT_LT(cv::norm(cv::Vec3d(n_main) - mean), 1e-6);
+  EXPECT_EQ(computeMainNormal(cv::Mat(3, 7, CV_32FC3, cv::Scalar::all(0)), 4), cv::Vec3f(0, 0, -1));
+}
+
 TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
   // Black squares on white on a plane facing the camera at 1 m.
   cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(230));

@@ -2,12 +2,13 @@
 
 #include "risas/ranking.hpp"
 
+#include "point_lanes.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <opencv2/core/hal/intrin.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -106,15 +107,10 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
     const cv::Vec3f* p = geometry.points.ptr<cv::Vec3f>(v0 + dv);
     const uchar* gray = frame.gray().ptr<uchar>(v0 + dv);
-    const int u_end = std::min(u0 + half, size.width - 1) + 1;
-    int u = std::max(u0 - half, 0);
-    for (; u + 4 <= u_end; u += 4) accumulate(&p[u][0], gray, u, dv);
-    if (u < u_end) {  // the row's last pixels, padded with NaN points, which are never kept
-      cv::Vec3f tail[4];
-      std::fill(std::begin(tail), std::end(tail), cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN()));
-      std::copy(p + u, p + u_end, tail);
-      accumulate(&tail[0][0], gray, u, dv);
-    }
+    const int u_begin = std::max(u0 - half, 0), u_end = std::min(u0 + half, size.width - 1) + 1;
+    // Padded with NaN points, which are never kept.
+    inFours(p + u_begin, u_end - u_begin, cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN()),
+            [&](const float* xyz, int i) { accumulate(xyz, gray, u_begin + i, dv); });
   }
   for (int g = 0; g < 256; ++g) nb.kept += count[g];
   if (nb.kept < 3) return std::nullopt;
