@@ -31,7 +31,8 @@ class Detector {
   const DetectorParams& params() const { return params_; }
 
  private:
-  void computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const;
+  // R into R's buffer; returns the largest R.
+  float computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const;
 
   DetectorParams params_;
 };
