@@ -63,14 +63,14 @@ TEST(Neighbourhood, KeepsTheForegroundOfTheDiscAndItsMoments) {
 
   // The same by hand: the disc's pixels (du^2 + dv^2 <= 72 < 8.5^2) in the
   // image and left of the step, their points about k_i in double.
-  const cv::Vec3f k = g.points.at<cv::Vec3f>(v0, u0);
+  const cv::Vec3f k = g.point(v0, u0);
   int kept = 0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   for (int v = 0; v < height; ++v) {
     for (int u = 0; u < step_column; ++u) {
       if ((u - u0) * (u - u0) + (v - v0) * (v - v0) > 72) continue;
-      const cv::Vec3f p = g.points.at<cv::Vec3f>(v, u) - k;
+      const cv::Vec3f p = g.point(v, u) - k;
       const Eigen::Vector3d d(p[0], p[1], p[2]);
       ++kept;
       sum += d;

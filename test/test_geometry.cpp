@@ -44,6 +44,30 @@ TEST(Geometry, BackProjectionUsesFxAndFy) {
   EXPECT_TRUE(std::isnan(backProject(depth, K).at<cv::Vec3f>(1, 1)[2]));
 }
 
+TEST(Geometry, FramePointsAreTheBackProjection) {
+  SyntheticRender render;
+  test::renderFrame(SyntheticScene::demo(), test::demoCamera(), &render);
+  cv::Mat depth_mm = render.depth_mm.clone();
+  depth_mm(cv::Rect(100, 50, 30, 20)).setTo(0);  // no measurement
+  const RgbdFrame frame(render.bgr, depth_mm, syntheticIntrinsics());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  const cv::Mat points = backProject(frame.depth(), frame.intrinsics());
+  ASSERT_EQ(g.size(), points.size());
+  int missing = 0;
+  for (int v = 0; v < points.rows; ++v) {
+    for (int u = 0; u < points.cols; ++u) {
+      const cv::Vec3f expected = points.at<cv::Vec3f>(v, u), actual = g.point(v, u);
+      ASSERT_EQ(g.hasPoint(v, u), !std::isnan(expected[2])) << v << ", " << u;
+      if (!g.hasPoint(v, u)) {
+        ++missing;
+        continue;
+      }
+      ASSERT_EQ(actual, expected) << v << ", " << u;  // the same products, bit for bit
+    }
+  }
+  EXPECT_EQ(missing, 30 * 20);
+}
+
 TEST(Geometry, SlantedPlaneNormalsWithinTwoDegreesOfMillimetreDepth) {
   SyntheticScene scene;
   const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
@@ -56,7 +80,7 @@ TEST(Geometry, SlantedPlaneNormalsWithinTwoDegreesOfMillimetreDepth) {
   EXPECT_GT(shareWithin(g, truth, 1.0), 0.95);
   EXPECT_GT(counted, 0.95 * 640 * 480);
   // Facing the camera: n . p < 0 everywhere.
-  const cv::Vec3f n = g.normal(240, 320), p = g.points.at<cv::Vec3f>(240, 320);
+  const cv::Vec3f n = g.normal(240, 320), p = g.point(240, 320);
   EXPECT_LT(n.dot(p), 0.0f);
 }
 
@@ -127,7 +151,7 @@ TEST(Geometry, PixelsWithoutDepthHaveNoNormal) {
 // first one's surface (depth within depth_change_factor of it). For frames of
 // one smooth surface, where every window is that plain square.
 double worstAngleToDirectFit(const FrameGeometry& g, const GeometryParams& params) {
-  const int height = g.points.rows, width = g.points.cols;
+  const int height = g.size().height, width = g.size().width;
   const int stride = params.normal_stride, radius = (params.normal_radius + stride - 1) / stride;
   const int grid_rows = (height + stride - 1) / stride, grid_cols = (width + stride - 1) / stride;
   std::vector<Eigen::Vector3d> grid;  // block means
@@ -135,10 +159,10 @@ double worstAngleToDirectFit(const FrameGeometry& g, const GeometryParams& param
     for (int j = 0; j < grid_cols; ++j) {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       int n = 0;
-      const float first = g.points.at<cv::Vec3f>(i * stride, j * stride)[2];
+      const float first = g.depth.at<float>(i * stride, j * stride);
       for (int r = i * stride; r < std::min((i + 1) * stride, height); ++r) {
         for (int c = j * stride; c < std::min((j + 1) * stride, width); ++c) {
-          const cv::Vec3f p = g.points.at<cv::Vec3f>(r, c);
+          const cv::Vec3f p = g.point(r, c);
           if (std::abs(p[2] - first) > params.depth_change_factor * first) continue;
           sum += Eigen::Vector3d(p[0], p[1], p[2]);
           ++n;

@@ -12,7 +12,7 @@ Descriptor::Descriptor(const DescriptorParams& params) : params_(params), encode
 
 void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, std::vector<cv::KeyPoint>& keypoints,
                          cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
-  if (geometry.points.size() != frame.size()) throw InputError("geometry does not belong to this frame");
+  if (geometry.size() != frame.size()) throw InputError("geometry does not belong to this frame");
   const Intrinsics& K = frame.intrinsics();
   // s_min and s_max of eq. 4 need the frame's depth range; the metric radius does not.
   const ScaleRange scales = params_.support_radius > 0.0 ? ScaleRange() : frameScaleRange(frame.depth());
@@ -26,7 +26,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       cv::KeyPoint& kp = keypoints[static_cast<size_t>(i)];
       const int u = cvRound(kp.pt.x), v = cvRound(kp.pt.y);
       if (u < 0 || v < 0 || u >= frame.size().width || v >= frame.size().height || !geometry.hasPoint(v, u)) continue;
-      const float R = patchRadius(geometry.points.at<cv::Vec3f>(v, u)[2], scales, params_.support_radius, K);
+      const float R = patchRadius(geometry.depth.at<float>(v, u), scales, params_.support_radius, K);
       const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
       if (!nb) continue;
       const Orientation orientation = dominantOrientation(*nb, K, params_);

@@ -63,7 +63,7 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
       const cv::Vec3f& n = geometry.normals.at<cv::Vec3f>(static_cast<unsigned>(v) / block_stride,
                                                           static_cast<unsigned>(u) / block_stride);
       if (n[2] == 0.0f) continue;  // also no point
-      const cv::Vec3f d = geometry.points.at<cv::Vec3f>(v, u) - k;
+      const cv::Vec3f d = geometry.point(v, u) - k;
       if (d.dot(d) >= t2) continue;  // background (eq. 5)
 
       const int u0 = std::min(static_cast<int>(x), gray.cols - 2);

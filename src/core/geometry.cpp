@@ -35,7 +35,9 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics) {
 
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry) {
   params.validate();
-  backProject(frame.depth(), frame.intrinsics(), geometry.points);
+  geometry.depth = frame.depth();
+  geometry.x_factor = rayFactors(frame.size().width, frame.intrinsics().cx, frame.intrinsics().fx);
+  geometry.y_factor = rayFactors(frame.size().height, frame.intrinsics().cy, frame.intrinsics().fy);
   geometry.normal_stride = params.normal_stride;
   estimateNormals(frame.depth(), frame.intrinsics(), params, geometry.normals, geometry.on_block_surface);
 }

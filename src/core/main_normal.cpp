@@ -136,7 +136,7 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
     const float* wr = weight.ptr<float>(r);
     for (int c = 0; c < p.cols; ++c) pr[c] = wr[c] > 1e-3f ? pr[c] / wr[c] : 0.0f;
   }
-  const cv::Size size = geometry.points.size();
+  const cv::Size size = geometry.size();
   if (p.cols * stride == size.width && p.rows * stride == size.height) {
     cv::resize(p, P, size, 0, 0, cv::INTER_LINEAR);
   } else {  // partial blocks: enlarge to whole blocks, then crop

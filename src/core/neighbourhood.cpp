@@ -2,8 +2,6 @@
 
 #include "risas/ranking.hpp"
 
-#include "point_lanes.hpp"
-
 #include <Eigen/Eigenvalues>
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -63,7 +61,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
 
   Neighbourhood nb;
   nb.centre = keypoint;
-  const cv::Vec3f k = geometry.points.at<cv::Vec3f>(v0, u0);
+  const cv::Vec3f k = geometry.point(v0, u0);
   const cv::Vec3f n = geometry.normal(v0, u0);
   nb.point = Eigen::Vector3d(k[0], k[1], k[2]);
   nb.normal = Eigen::Vector3d(n[0], n[1], n[2]);
@@ -73,7 +71,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   const float r2 = initial_radius_px * initial_radius_px;
   // Offsets from k_i are centimetres: float sums of a few thousand of them
   // keep far more precision than the depth has. Four pixels at a time, their
-  // points de-interleaved into x, y and z lanes.
+  // points formed in lanes from the depth and the back-projection factors.
   using cv::v_float32x4;
   const v_float32x4 kx = cv::v_setall_f32(k[0]), ky = cv::v_setall_f32(k[1]), kz = cv::v_setall_f32(k[2]);
   const v_float32x4 t2 = cv::v_setall_f32(static_cast<float>(background_distance * background_distance));
@@ -82,16 +80,16 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // offsets. The rank-weighted centroid below needs nothing more.
   int count[256] = {};
   int offset_u[256] = {}, offset_v[256] = {};
-  // Pixels u .. u + 3 of a row: x, y, z of their points in xyz.
-  const auto accumulate = [&](const float* xyz, const uchar* gray, int u, int dv) {
-    v_float32x4 x, y, z;
-    cv::v_load_deinterleave(xyz, x, y, z);
-    x = x - kx, y = y - ky, z = z - kz;
+  // Pixels u .. u + 3 of row v0 + dv: their depths and x factors.
+  const auto accumulate = [&](const float* depth, const float* x_factor, float y_factor, const uchar* gray, int u,
+                              int dv) {
+    const v_float32x4 z = cv::v_load(depth);
+    v_float32x4 x = cv::v_load(x_factor) * z - kx, y = cv::v_setall_f32(y_factor) * z - ky, dz = z - kz;
     // eq. 5: background beyond t (a NaN point compares false and is dropped)
-    const v_float32x4 kept = (x * x + y * y + z * z) < t2;
-    x = x & kept, y = y & kept, z = z & kept;
-    sx += x, sy += y, sz += z;
-    sxx += x * x, sxy += x * y, sxz += x * z, syy += y * y, syz += y * z, szz += z * z;
+    const v_float32x4 kept = (x * x + y * y + dz * dz) < t2;
+    x = x & kept, y = y & kept, dz = dz & kept;
+    sx += x, sy += y, sz += dz;
+    sxx += x * x, sxy += x * y, sxz += x * dz, syy += y * y, syz += y * dz, szz += dz * dz;
     const int lanes = cv::v_signmask(kept);
     for (int i = 0; i < 4; ++i) {
       if (!(lanes >> i & 1)) continue;
@@ -105,12 +103,20 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     const float row_r2 = r2 - static_cast<float>(dv * dv);
     if (row_r2 < 0.0f) continue;
     const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
-    const cv::Vec3f* p = geometry.points.ptr<cv::Vec3f>(v0 + dv);
-    const uchar* gray = frame.gray().ptr<uchar>(v0 + dv);
-    const int u_begin = std::max(u0 - half, 0), u_end = std::min(u0 + half, size.width - 1) + 1;
-    // Padded with NaN points, which are never kept.
-    inFours(p + u_begin, u_end - u_begin, cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN()),
-            [&](const float* xyz, int i) { accumulate(xyz, gray, u_begin + i, dv); });
+    const int v = v0 + dv, u_end = std::min(u0 + half, size.width - 1) + 1;
+    const float* depth = geometry.depth.ptr<float>(v);
+    const float* x_factor = geometry.x_factor.data();
+    const float y_factor = geometry.y_factor[static_cast<size_t>(v)];
+    const uchar* gray = frame.gray().ptr<uchar>(v);
+    int u = std::max(u0 - half, 0);
+    for (; u + 4 <= u_end; u += 4) accumulate(depth + u, x_factor + u, y_factor, gray, u, dv);
+    if (u < u_end) {  // the last pixels, from copies padded with NaN depth, which is never kept
+      float tail_depth[4], tail_x_factor[4] = {};
+      std::fill_n(tail_depth, 4, std::numeric_limits<float>::quiet_NaN());
+      std::copy(depth + u, depth + u_end, tail_depth);
+      std::copy(x_factor + u, x_factor + u_end, tail_x_factor);
+      accumulate(tail_depth, tail_x_factor, y_factor, gray, u, dv);
+    }
   }
   for (int g = 0; g < 256; ++g) nb.kept += count[g];
   if (nb.kept < 3) return std::nullopt;
