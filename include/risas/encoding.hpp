@@ -32,13 +32,13 @@ class PatchEncoder {
               float radius_px, double theta, float* out) const;
 
  private:
-  struct DiscSample {
-    float i, j;  // offset in units of the disc radius / patch_radius
-    int sector;  // spatial label in the rotated patch
-  };
-
   DescriptorParams params_;
-  std::vector<DiscSample> disc_;
+  // The disc's samples: offset (i, j) in units of the disc radius, and
+  // spatial label in the rotated patch. disc_size_ of them, padded to whole
+  // fours (see encode).
+  std::vector<float> disc_i_, disc_j_;
+  std::vector<uint8_t> disc_sector_;
+  int disc_size_ = 0;
 };
 
 }  // namespace risas
