@@ -2,7 +2,7 @@
 
 #include "risas/ranking.hpp"
 
-#include "normal_stride.hpp"
+#include "with_default.hpp"
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -69,7 +69,7 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   // (its pixel's surface flag, block normal, depth and 2 x 2 grey values)
   // gathered one by one. Out-of-image lanes read a clamped pixel and are
   // dropped.
-  withNormalStride(geometry.normal_stride, [&](auto stride) {
+  withDefault<GeometryParams::kDefaultNormalStride>(geometry.normal_stride, [&](auto stride) {
     for (size_t s = 0; s < disc_i_.size(); s += 4) {
       const v_float32x4 di = cv::v_load(&disc_i_[s]), dj = cv::v_load(&disc_j_[s]);
       // Patch x axis along theta, y axis 90 degrees on (image v points down).

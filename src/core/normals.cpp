@@ -1,7 +1,7 @@
 #include "risas/geometry.hpp"
 
-#include "normal_stride.hpp"
 #include "vector_clones.hpp"
+#include "with_default.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -118,7 +118,7 @@ struct BlockRowSums {
 };
 
 // Row i of the grid (see gridPoints). Stride is an int or, for the default
-// stride, a compile-time constant (withNormalStride): the loops over blocks
+// stride, a compile-time constant (withDefault): the loops over blocks
 // then read the depth row with a fixed step, which the compiler vectorises.
 template <class Stride>
 RISAS_VECTOR_CLONES void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const float* y_factor_of_row, int i,
@@ -197,7 +197,7 @@ void gridPoints(const cv::Mat& depth, const Intrinsics& intrinsics, int stride, 
     }
     for (int i = range.start; i < range.end; ++i) {
       const float* y = y_factor.data() + i * stride;
-      withNormalStride(stride, [&](auto fixed_stride) {
+      withDefault<GeometryParams::kDefaultNormalStride>(stride, [&](auto fixed_stride) {
         gridRow(depth, x_factor, y, i, fixed_stride, depth_change_factor, sums, grid, on_surface);
       });
     }
