@@ -8,8 +8,10 @@
 #include "risas/errors.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <set>
+#include <tuple>
 
 namespace risas {
 namespace {
@@ -231,6 +233,48 @@ TEST(Detector, SameResponseAndKeypointsOnAnyNumberOfThreads) {
   }
   cv::setNumThreads(threads);
   EXPECT_GT(expected.size(), 100u);
+}
+
+// Eq. 1's response with OpenCV's filters: grey and P images, their Sobel
+// derivatives (scaled 1/8, replicated border), the tensor tau M_I +
+// (1 - tau) M_P, cv::GaussianBlur with the window (kernel cut at 3 sigma),
+// Harris.
+cv::Mat referenceResponse(const RgbdFrame& frame, const FrameGeometry& g, const DetectorParams& params) {
+  const auto kernel = [](double sigma) { return cv::Size(2 * cvCeil(3 * sigma) + 1, 2 * cvCeil(3 * sigma) + 1); };
+  cv::Mat I, P, Ix, Iy, Px, Py;
+  frame.gray().convertTo(I, CV_32F);
+  cv::GaussianBlur(I, I, kernel(params.gray_sigma), params.gray_sigma);
+  dotProductImage(g, computeMainNormal(g.normals, params.n_s), params.dp_sigma, P);
+  for (auto [image, dx, dy] : {std::tie(I, Ix, Iy), std::tie(P, Px, Py)}) {
+    cv::Sobel(image, dx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+    cv::Sobel(image, dy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  }
+  const float tau = static_cast<float>(params.tau);
+  cv::Mat xx = tau * Ix.mul(Ix) + (1 - tau) * Px.mul(Px), xy = tau * Ix.mul(Iy) + (1 - tau) * Px.mul(Py),
+          yy = tau * Iy.mul(Iy) + (1 - tau) * Py.mul(Py);
+  for (cv::Mat* m : {&xx, &xy, &yy}) cv::GaussianBlur(*m, *m, kernel(params.window_sigma), params.window_sigma);
+  const cv::Mat trace = xx + yy;
+  return xx.mul(yy) - xy.mul(xy) - static_cast<float>(params.harris_k) * trace.mul(trace);
+}
+
+TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
+  // The default window (its own compiled path) and two others, on a frame
+  // whose width is no multiple of four.
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const cv::Rect crop(163, 125, 301, 203);
+  const Intrinsics& K = frame.intrinsics();
+  const RgbdFrame small(frame.gray()(crop).clone(), frame.depth()(crop).clone(),
+                        Intrinsics(K.fx, K.fy, K.cx - crop.x, K.cy - crop.y));
+  const FrameGeometry g = computeGeometry(small, GeometryParams());
+  for (const double window_sigma : {DetectorParams().window_sigma, 0.5, 2.0}) {
+    DetectorParams params;
+    params.window_sigma = window_sigma;
+    const cv::Mat expected = referenceResponse(small, g, params);
+    double largest = 0.0;
+    cv::minMaxLoc(cv::abs(expected), nullptr, &largest);
+    EXPECT_LT(cv::norm(Detector(params).response(small, g), expected, cv::NORM_INF), 1e-5 * largest)
+        << "window sigma " << window_sigma;
+  }
 }
 
 TEST(Detector, RespectsTheMask) {

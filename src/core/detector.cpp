@@ -4,12 +4,14 @@
 #include "risas/main_normal.hpp"
 
 #include "vector_clones.hpp"
+#include "with_default.hpp"
 
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace risas {
@@ -20,7 +22,6 @@ namespace {
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
   cv::Mat raw, I, P, R;
-  cv::Mat tensor[3], window[3];  // the entries xx, xy, yy of eq. 1's structure tensor, one plane each
 };
 
 ResponseBuffers& buffers() {
@@ -94,6 +95,66 @@ RISAS_VECTOR_CLONES float harrisRow(const float* __restrict xx, const float* __r
   return largest;
 }
 
+// The Gaussian window w of eq. 1 as its centre weight and the weights of
+// the offsets 1 .. radius (it is symmetric): OpenCV's float kernel, cut at
+// 3 sigma. The default window_sigma, 1.5, has radius 5.
+constexpr int kDefaultWindowRadius = 5;
+std::vector<float> gaussianHalfKernel(double sigma) {
+  const cv::Mat kernel = cv::getGaussianKernel(gaussianSize(sigma).width, sigma, CV_32F);
+  const int radius = kernel.rows / 2;
+  return std::vector<float>(kernel.ptr<float>(radius), kernel.ptr<float>(radius) + radius + 1);
+}
+
+// The window filter, symmetric: out[u] = half[0] taps[radius][u] + the sum
+// over t = 1 .. radius of half[t] (taps[radius - t][u] + taps[radius + t][u]).
+// Along a row, taps[i] is the row shifted by i - radius; down the columns,
+// the row at that offset. The rows have room for whole groups of four past
+// cols. With the default radius a compile-time constant (withDefault) the
+// compiler unrolls the taps and vectorises the loop as it stands, eight
+// outputs per AVX2 register; with a radius known only at run time it would
+// not vectorise it at all, so that one is written in four-wide intrinsics.
+template <class Radius>
+RISAS_VECTOR_CLONES void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols,
+                                         float* __restrict out) {
+  if constexpr (!std::is_integral_v<Radius>) {
+    for (int u = 0; u < cols; ++u) {
+      float sum = half[0] * taps[radius][u];
+      for (int t = 1; t <= radius; ++t) sum += half[t] * (taps[radius - t][u] + taps[radius + t][u]);
+      out[u] = sum;
+    }
+  } else {
+    for (int u = 0; u < cols; u += 4) {
+      cv::v_float32x4 sum = cv::v_setall_f32(half[0]) * cv::v_load(taps[radius] + u);
+      for (int t = 1; t <= radius; ++t) {
+        sum += cv::v_setall_f32(half[t]) * (cv::v_load(taps[radius - t] + u) + cv::v_load(taps[radius + t] + u));
+      }
+      cv::v_store(out + u, sum);
+    }
+  }
+}
+
+// One thread's rows for the window stage (see computeResponse): rows `pitch`
+// floats apart, a little more than the image's width. (Rows a multiple of
+// 4 KiB apart made the CPU take each row's loads for reads of the stores
+// just made to another row, 4K aliasing, and stall on them.)
+struct WindowRows {
+  static constexpr int kGradients = 4, kTensor = 3;  // gx, gy, px, py; xx, xy, yy
+  std::vector<float> data;
+  size_t pitch = 0;
+  int span = 0;  // rows of the window, 2 radius + 1
+  void reset(int cols, int radius) {
+    pitch = static_cast<size_t>(cols + 2 * radius + 3) / 4 * 4 + 8;
+    span = 2 * radius + 1;
+    data.resize(pitch * static_cast<size_t>(kGradients + kTensor + kTensor * span + kTensor));
+  }
+  float* row(int i) { return data.data() + static_cast<size_t>(i) * pitch; }
+  float* gradient(int i) { return row(i); }
+  float* tensor(int entry) { return row(kGradients + entry); }  // with room for the border
+  // Entry e of the filtered tensor row r, kept while the window reaches it.
+  float* ring(int entry, int r) { return row(kGradients + kTensor + entry * span + (r % span + span) % span); }
+  float* window(int entry) { return row(kGradients + kTensor + kTensor * span + entry); }
+};
+
 }  // namespace
 
 Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
@@ -105,10 +166,7 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   const float k = static_cast<float>(params_.harris_k);
   const double gray_sigma = params_.gray_sigma, window_sigma = params_.window_sigma;
   const cv::Size size = frame.size();
-  for (cv::Mat* image : {&b.raw, &b.I, &b.tensor[0], &b.tensor[1], &b.tensor[2], &b.window[0], &b.window[1],
-                         &b.window[2], &R}) {
-    image->create(size, CV_32FC1);
-  }
+  for (cv::Mat* image : {&b.raw, &b.I, &R}) image->create(size, CV_32FC1);
 
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
   dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
@@ -123,30 +181,47 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
     }
   });
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
-  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P.
-  inStripes(size.height, [&](const cv::Range& rows) {
-    thread_local std::vector<float> gradient_rows;
-    gradient_rows.resize(4 * static_cast<size_t>(size.width));
-    float* gx = gradient_rows.data();
-    float *gy = gx + size.width, *px = gy + size.width, *py = px + size.width;
-    for (int v = rows.start; v < rows.end; ++v) {
-      sobelRow(b.I, v, gx, gy);
-      sobelRow(b.P, v, px, py);
-      tensorRow(gx, gy, px, py, tau, size.width, b.tensor[0].ptr<float>(v), b.tensor[1].ptr<float>(v),
-                b.tensor[2].ptr<float>(v));
-    }
-  });
-  // The window w, then Harris.
+  // expansion is the structure tensor M = tau M_I + (1 - tau) M_P; then the
+  // window w (cv::GaussianBlur's kernel and reflected border), then Harris.
+  // Row by row, with no tensor image: a tensor row is formed from the grey
+  // and P rows, filtered along the row and kept in a ring while the column
+  // filter's window reaches it.
+  const std::vector<float> half = gaussianHalfKernel(window_sigma);
+  const int window_radius = static_cast<int>(half.size()) - 1, cols = size.width;
   std::vector<float> row_max(static_cast<size_t>(size.height));
-  inStripes(size.height, [&](const cv::Range& rows) {
-    for (int i = 0; i < 3; ++i) {
-      cv::GaussianBlur(b.tensor[i].rowRange(rows), b.window[i].rowRange(rows), gaussianSize(window_sigma), window_sigma,
-                       window_sigma);
-    }
-    for (int v = rows.start; v < rows.end; ++v) {
-      row_max[static_cast<size_t>(v)] = harrisRow(b.window[0].ptr<float>(v), b.window[1].ptr<float>(v),
-                                                  b.window[2].ptr<float>(v), k, size.width, R.ptr<float>(v));
-    }
+  withDefault<kDefaultWindowRadius>(window_radius, [&](auto radius) {
+    inStripes(size.height, [&](const cv::Range& rows) {
+      thread_local WindowRows w;
+      w.reset(cols, radius);
+      std::vector<const float*> shifted(static_cast<size_t>(w.span)), column(static_cast<size_t>(w.span));
+      // Tensor row r (reflected into the image), filtered along the row,
+      // into the ring.
+      const auto addRow = [&](int r) {
+        const int v = cv::borderInterpolate(r, size.height, cv::BORDER_REFLECT_101);
+        sobelRow(b.I, v, w.gradient(0), w.gradient(1));
+        sobelRow(b.P, v, w.gradient(2), w.gradient(3));
+        tensorRow(w.gradient(0), w.gradient(1), w.gradient(2), w.gradient(3), tau, cols, w.tensor(0) + radius,
+                  w.tensor(1) + radius, w.tensor(2) + radius);
+        for (int e = 0; e < WindowRows::kTensor; ++e) {
+          float* row = w.tensor(e) + radius;
+          for (int t = 1; t <= radius; ++t) {
+            row[-t] = row[cv::borderInterpolate(-t, cols, cv::BORDER_REFLECT_101)];
+            row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, cv::BORDER_REFLECT_101)];
+          }
+          for (int t = 0; t < w.span; ++t) shifted[static_cast<size_t>(t)] = row + t - radius;
+          symmetricWindow(shifted.data(), half.data(), radius, cols, w.ring(e, r));
+        }
+      };
+      for (int r = rows.start - radius; r < rows.start + radius; ++r) addRow(r);
+      for (int v = rows.start; v < rows.end; ++v) {
+        addRow(v + radius);
+        for (int e = 0; e < WindowRows::kTensor; ++e) {
+          for (int t = 0; t < w.span; ++t) column[static_cast<size_t>(t)] = w.ring(e, v - radius + t);
+          symmetricWindow(column.data(), half.data(), radius, cols, w.window(e));
+        }
+        row_max[static_cast<size_t>(v)] = harrisRow(w.window(0), w.window(1), w.window(2), k, cols, R.ptr<float>(v));
+      }
+    });
   });
   return *std::max_element(row_max.begin(), row_max.end());
 }
