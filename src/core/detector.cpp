@@ -21,7 +21,7 @@ namespace {
 // reused from frame to frame: a VGA frame needs about 20 MB of them, which
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
-  cv::Mat raw, I, P, R;
+  cv::Mat I, P, R;
 };
 
 ResponseBuffers& buffers() {
@@ -166,19 +166,15 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   const float k = static_cast<float>(params_.harris_k);
   const double gray_sigma = params_.gray_sigma, window_sigma = params_.window_sigma;
   const cv::Size size = frame.size();
-  for (cv::Mat* image : {&b.raw, &b.I, &R}) image->create(size, CV_32FC1);
+  for (cv::Mat* image : {&b.I, &R}) image->create(size, CV_32FC1);
 
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
   dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
+  // I: the grey image blurred with gray_sigma, in float, filtered straight
+  // from the 8-bit image (gray_sigma 0: the kernel is [1]).
+  const cv::Mat gray_kernel = cv::getGaussianKernel(gaussianSize(gray_sigma).width, gray_sigma, CV_32F);
   inStripes(size.height, [&](const cv::Range& rows) {
-    frame.gray().rowRange(rows).convertTo(b.raw.rowRange(rows), CV_32F);
-  });
-  inStripes(size.height, [&](const cv::Range& rows) {
-    if (gray_sigma > 0) {
-      cv::GaussianBlur(b.raw.rowRange(rows), b.I.rowRange(rows), gaussianSize(gray_sigma), gray_sigma, gray_sigma);
-    } else {
-      b.raw.rowRange(rows).copyTo(b.I.rowRange(rows));
-    }
+    cv::sepFilter2D(frame.gray().rowRange(rows), b.I.rowRange(rows), CV_32F, gray_kernel, gray_kernel);
   });
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
   // expansion is the structure tensor M = tau M_I + (1 - tau) M_P; then the
