@@ -1,6 +1,9 @@
 // Every bad input of a frame, intrinsics or parameters gives the documented
 // error naming the problem; good inputs in both depth encodings agree.
+#include "risas/descriptor.hpp"
+#include "risas/detector.hpp"
 #include "risas/errors.hpp"
+#include "risas/geometry.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
 
@@ -92,6 +95,22 @@ TEST(FrameInput, RejectsBadIntrinsics) {
   expectInputError([] { RgbdFrame(colour(), depthMm(), Intrinsics(500, std::nan(""), 32, 24)); }, "focal lengths");
   expectInputError([] { RgbdFrame(colour(), depthMm(), Intrinsics(500, 500, std::nan(""), 24)); }, "principal point");
   expectInputError([] { RgbdFrame(colour(), depthMm(), Intrinsics(500, 500, 320, 240)); }, "outside the 64x48 image");
+}
+
+TEST(FrameInput, RejectsTheGeometryOfAnotherFrame) {
+  const RgbdFrame frame(colour(), depthMm(), kK);
+  const RgbdFrame larger(cv::Mat(60, 80, CV_8UC3, cv::Scalar::all(50)), cv::Mat(60, 80, CV_16UC1, cv::Scalar(900)),
+                         Intrinsics(500, 510, 40, 30));
+  const FrameGeometry other = computeGeometry(larger, GeometryParams());
+  FrameGeometry incomplete = computeGeometry(frame, GeometryParams());
+  incomplete.x_factor.clear();
+  std::vector<cv::KeyPoint> keypoints = {cv::KeyPoint(30.0f, 20.0f, 7.0f)};
+  cv::Mat descriptors;
+  for (const FrameGeometry* geometry : {&other, static_cast<const FrameGeometry*>(&incomplete)}) {
+    expectInputError([&] { Detector().detect(frame, *geometry, keypoints); }, "geometry does not belong");
+    expectInputError([&] { Descriptor().compute(frame, *geometry, keypoints, descriptors); }, "does not belong");
+  }
+  expectInputError([&] { Detector().detect(frame, FrameGeometry(), keypoints); }, "geometry does not belong");
 }
 
 TEST(FrameInput, IntrinsicsFromMatrixNeedsAPinholeK) {

@@ -33,6 +33,13 @@ struct FrameGeometry {
   cv::Mat on_block_surface;  // CV_8UC1 per pixel: 255 where the pixel lies on its block's surface
 
   cv::Size size() const { return depth.size(); }
+  // Whether this is the geometry of a frame of `frame_size`, complete.
+  bool fits(cv::Size frame_size) const {
+    return size() == frame_size && depth.type() == CV_32FC1 &&
+           x_factor.size() == static_cast<size_t>(frame_size.width) &&
+           y_factor.size() == static_cast<size_t>(frame_size.height) && !normals.empty() &&
+           on_block_surface.size() == frame_size;
+  }
   bool hasPoint(int row, int col) const { return !std::isnan(depth.at<float>(row, col)); }
   // NaN where there is no point.
   cv::Vec3f point(int row, int col) const {

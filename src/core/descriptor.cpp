@@ -12,7 +12,7 @@ Descriptor::Descriptor(const DescriptorParams& params) : params_(params), encode
 
 void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, std::vector<cv::KeyPoint>& keypoints,
                          cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
-  if (geometry.size() != frame.size()) throw InputError("geometry does not belong to this frame");
+  if (!geometry.fits(frame.size())) throw InputError("geometry does not belong to this frame");
   const Intrinsics& K = frame.intrinsics();
   // s_min and s_max of eq. 4 need the frame's depth range; the metric radius does not.
   const ScaleRange scales = params_.support_radius > 0.0 ? ScaleRange() : frameScaleRange(frame.depth());

@@ -160,7 +160,7 @@ struct WindowRows {
 Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
 
 float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const {
-  if (geometry.size() != frame.size()) throw InputError("geometry does not belong to this frame");
+  if (!geometry.fits(frame.size())) throw InputError("geometry does not belong to this frame");
   ResponseBuffers& b = buffers();
   const float tau = static_cast<float>(params_.tau);
   const float k = static_cast<float>(params_.harris_k);
