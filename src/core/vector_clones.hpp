@@ -8,7 +8,9 @@
 // copy the CPU runs. All copies do the same arithmetic in the same order (the
 // loops are element-wise, and the core is compiled with -ffp-contract=off:
 // no fused multiply-adds), so results do not depend on the CPU.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+// (GCC 11 is the first to know x86-64-v4; older compilers and others build
+// the baseline copy only.)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && __GNUC__ >= 11
 #define RISAS_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #else
 #define RISAS_VECTOR_CLONES
