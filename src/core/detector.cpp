@@ -51,7 +51,8 @@ cv::Size gaussianSize(double sigma) {
 // [1 2 1]-smoothed image (grey levels per pixel for both channels alike),
 // replicated at the edges. Written out, unlike cv::Sobel, so the tensor
 // entries are formed from the rows without four intermediate images.
-RISAS_VECTOR_CLONES void sobelRow(const cv::Mat& image, int v, float* __restrict dx, float* __restrict dy) {
+RISAS_VECTOR_CLONES
+void sobelRow(const cv::Mat& image, int v, float* __restrict dx, float* __restrict dy) {
   const int cols = image.cols;
   const float* __restrict a0 = image.ptr<float>(std::max(v - 1, 0));
   const float* __restrict a1 = image.ptr<float>(v);
@@ -70,7 +71,8 @@ RISAS_VECTOR_CLONES void sobelRow(const cv::Mat& image, int v, float* __restrict
 }
 
 // One row of eq. 1's structure tensor before the window, tau M_I + (1 - tau) M_P.
-RISAS_VECTOR_CLONES void tensorRow(const float* __restrict gx, const float* __restrict gy, const float* __restrict px,
+RISAS_VECTOR_CLONES
+void tensorRow(const float* __restrict gx, const float* __restrict gy, const float* __restrict px,
                const float* __restrict py, float tau, int cols, float* __restrict xx, float* __restrict xy,
                float* __restrict yy) {
   const float shape = 1.0f - tau;
@@ -83,7 +85,8 @@ RISAS_VECTOR_CLONES void tensorRow(const float* __restrict gx, const float* __re
 
 // Harris: R = det(M) - k trace(M)^2. Returns the row's largest R (which
 // the threshold needs), taken while the row is at hand.
-RISAS_VECTOR_CLONES float harrisRow(const float* __restrict xx, const float* __restrict xy, const float* __restrict yy, float k, int cols,
+RISAS_VECTOR_CLONES
+float harrisRow(const float* __restrict xx, const float* __restrict xy, const float* __restrict yy, float k, int cols,
                 float* __restrict r) {
   for (int u = 0; u < cols; ++u) r[u] = xx[u] * yy[u] - xy[u] * xy[u] - k * (xx[u] + yy[u]) * (xx[u] + yy[u]);
   // In lanes: a scalar max would keep the compiler from vectorising (NaN order).
@@ -114,8 +117,9 @@ std::vector<float> gaussianHalfKernel(double sigma) {
 // outputs per AVX2 register; with a radius known only at run time it would
 // not vectorise it at all, so that one is written in four-wide intrinsics.
 template <class Radius>
-RISAS_VECTOR_CLONES void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols,
-                                         float* __restrict out) {
+RISAS_VECTOR_CLONES
+void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols,
+                     float* __restrict out) {
   if constexpr (!std::is_integral_v<Radius>) {
     for (int u = 0; u < cols; ++u) {
       float sum = half[0] * taps[radius][u];

@@ -32,7 +32,8 @@ class RowMoments {
 
   // Adds (sign 1) or removes (sign -1) the moments of one image row's points
   // (coordinates x, y, z) where the mask is set, column by column.
-  RISAS_VECTOR_CLONES void accumulate(const float* x, const float* y, const float* z, const uchar* mask, double sign) {
+  RISAS_VECTOR_CLONES
+  void accumulate(const float* x, const float* y, const float* z, const uchar* mask, double sign) {
     double* s[kMoments];
     for (int k = 0; k < kMoments; ++k) s[k] = (*this)[k];
 #pragma GCC ivdep  // the moments' arrays are distinct
@@ -83,7 +84,8 @@ struct RowCovariances {
 // window's sum is the difference of two running sums along the row;
 // `running` holds them shifted by radius and clamped at both ends, so that
 // window u is running[u + 2 radius + 1] - running[u] wherever u lies.
-RISAS_VECTOR_CLONES void boxCovariances(const RowMoments& columns, int cols, int radius, RowMoments& running, RowCovariances& out) {
+RISAS_VECTOR_CLONES
+void boxCovariances(const RowMoments& columns, int cols, int radius, RowMoments& running, RowCovariances& out) {
   const int pad = radius + 1;  // running[j] = sum of columns 0 .. clamp(j - pad, -1, cols - 1)
   double total[kMoments] = {};
   double* r[kMoments];
@@ -121,14 +123,17 @@ struct BlockRowSums {
 // stride, a compile-time constant (withDefault): the loops over blocks
 // then read the depth row with a fixed step, which the compiler vectorises.
 template <class Stride>
-RISAS_VECTOR_CLONES void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const float* y_factor_of_row, int i,
+RISAS_VECTOR_CLONES
+void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const float* y_factor_of_row, int i,
              Stride stride, float depth_change_factor, BlockRowSums& sums, GridCloud& grid, cv::Mat& on_surface) {
   const int rows = depth.rows, cols = depth.cols, grid_cols = grid.z.cols;
   float *f = sums.first.data(), *n = sums.count.data();
   float *sx = sums.sum_x.data(), *sy = sums.sum_y.data(), *sz = sums.sum_z.data();
   const int r_begin = i * stride, r_end = std::min(r_begin + static_cast<int>(stride), rows);
   std::fill(sums.first.begin(), sums.first.end(), std::numeric_limits<float>::quiet_NaN());
-  for (std::vector<float>* v : {&sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) std::fill(v->begin(), v->end(), 0.0f);
+  for (std::vector<float>* v : {&sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
+    std::fill(v->begin(), v->end(), 0.0f);
+  }
   // Block column j holds image columns j stride + k; visiting k inside r
   // keeps each block's row-major order.
   for (int r = r_begin; r < r_end; ++r) {
@@ -165,8 +170,8 @@ RISAS_VECTOR_CLONES void gridRow(const cv::Mat& depth, const std::vector<float>&
   float *gx = grid.x.ptr<float>(i), *gy = grid.y.ptr<float>(i), *gz = grid.z.ptr<float>(i);
 #pragma GCC ivdep  // the arrays are distinct
   for (int j = 0; j < grid_cols; ++j) {
-    // A block without a point has the sums 0 and the count 0: 0 / 0 makes
-    // its grid point NaN.
+    // A block without a point has the sums 0 and the count 0: 0 times
+    // 1 / 0 makes its grid point NaN.
     const float inv = 1.0f / n[j];
     gx[j] = sx[j] * inv;
     gy[j] = sy[j] * inv;
@@ -265,7 +270,8 @@ void sameSurfaceCovariance(const GridCloud& grid, const cv::Mat& surfaces, int v
 // sharpen it by (l1/l2)^2 each: no trigonometric eigen-solver per pixel.
 // Branch-free, in float, over the row: C is scaled to unit trace first, so
 // every product stays far from float's range limits.
-RISAS_VECTOR_CLONES void fitRow(RowCovariances& cov, const float* centre_x, const float* centre_y, const float* centre_z,
+RISAS_VECTOR_CLONES
+void fitRow(RowCovariances& cov, const float* centre_x, const float* centre_y, const float* centre_z,
             const int* label, float min_points, int cols, cv::Vec3f* normals) {
   // adj(C) of a collinear window (l2 = 0) is zero up to rounding: it has
   // no plane. Its dominant eigenvalue l2 l3 must clear float's noise.
