@@ -11,12 +11,16 @@ cv::Ptr<Risas> Risas::create(const RisasParams& params) { return cv::makePtr<Ris
 
 namespace {
 
-// The geometry of the frame in hand, one per thread, its buffers reused from
-// frame to frame. Only the calls below use it, and none keeps it past its
-// return, so reusing it can change no result.
-FrameGeometry& threadGeometry() {
+// Calls use(geometry) with the frame's geometry in this thread's buffers,
+// reused from frame to frame (none of the calls below keeps it past its
+// return). The geometry shares the frame's depth; it is let go afterwards so
+// that the caller's frame is not held until the next call.
+template <class Use>
+void withGeometry(const RgbdFrame& frame, const GeometryParams& params, Use&& use) {
   thread_local FrameGeometry geometry;
-  return geometry;
+  computeGeometry(frame, params, geometry);
+  use(geometry);
+  geometry.depth.release();
 }
 
 }  // namespace
@@ -31,10 +35,10 @@ void Risas::computeGeometry(const RgbdFrame& frame, FrameGeometry& geometry) con
 
 void Risas::detectAndCompute(const RgbdFrame& frame, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
                              cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
-  FrameGeometry& geometry = threadGeometry();
-  computeGeometry(frame, geometry);
-  detector_.detect(frame, geometry, keypoints, mask);
-  descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  withGeometry(frame, params_.geometry, [&](const FrameGeometry& geometry) {
+    detector_.detect(frame, geometry, keypoints, mask);
+    descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  });
 }
 
 Features Risas::extract(const RgbdFrame& frame, const cv::Mat& mask) const {
@@ -44,16 +48,15 @@ Features Risas::extract(const RgbdFrame& frame, const cv::Mat& mask) const {
 }
 
 void Risas::detect(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask) const {
-  FrameGeometry& geometry = threadGeometry();
-  computeGeometry(frame, geometry);
-  detector_.detect(frame, geometry, keypoints, mask);
+  withGeometry(frame, params_.geometry,
+               [&](const FrameGeometry& geometry) { detector_.detect(frame, geometry, keypoints, mask); });
 }
 
 void Risas::compute(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
                     std::vector<KeypointGeometry>* info) const {
-  FrameGeometry& geometry = threadGeometry();
-  computeGeometry(frame, geometry);
-  descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  withGeometry(frame, params_.geometry, [&](const FrameGeometry& geometry) {
+    descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  });
 }
 
 }  // namespace risas
