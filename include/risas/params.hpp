@@ -16,7 +16,8 @@ namespace risas {
 // Depth -> points -> normals (paper III-A step 1).
 struct GeometryParams {
   // Half-width of the square window the normal is fitted over (ref: 5 -> 11x11).
-  int normal_radius = 5;
+  static constexpr int kDefaultNormalRadius = 5;
+  int normal_radius = kDefaultNormalRadius;
   // Two 4-neighbours whose depths differ by more than this fraction of the
   // depth lie on different surfaces; windows never straddle such a jump.
   double depth_change_factor = 0.02;
@@ -25,8 +26,8 @@ struct GeometryParams {
   // Normals are fitted on a grid of normal_stride x normal_stride blocks,
   // each the mean of its points on one surface, and a pixel on that surface
   // takes its block's normal (neighbouring windows overlap almost
-  // entirely). 1: a fit at every pixel. (The default stride has a compiled
-  // fast path.)
+  // entirely). 1: a fit at every pixel. (The default stride and radius have
+  // a compiled fast path.)
   static constexpr int kDefaultNormalStride = 2;
   int normal_stride = kDefaultNormalStride;
 
