@@ -34,11 +34,9 @@ class PatchEncoder {
  private:
   DescriptorParams params_;
   // The disc's samples: offset (i, j) in units of the disc radius, and
-  // spatial label in the rotated patch. disc_size_ of them, padded to whole
-  // fours (see encode).
+  // spatial label in the rotated patch.
   std::vector<float> disc_i_, disc_j_;
   std::vector<uint8_t> disc_sector_;
-  int disc_size_ = 0;
 };
 
 }  // namespace risas

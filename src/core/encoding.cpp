@@ -2,13 +2,11 @@
 
 #include "risas/ranking.hpp"
 
+#include "vector_clones.hpp"
 #include "with_default.hpp"
-
-#include <opencv2/core/hal/intrin.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace risas {
 
@@ -27,107 +25,153 @@ PatchEncoder::PatchEncoder(const DescriptorParams& params) : params_(params) {
       disc_sector_.push_back(static_cast<uint8_t>(sector));
     }
   }
-  disc_size_ = static_cast<int>(disc_i_.size());
-  // Whole fours; the padding's NaN offsets fall outside every image.
-  const size_t padded = (disc_i_.size() + 3) / 4 * 4;
-  disc_i_.resize(padded, std::numeric_limits<float>::quiet_NaN());
-  disc_j_.resize(padded, std::numeric_limits<float>::quiet_NaN());
-  disc_sector_.resize(padded, 0);
 }
+
+namespace {
+
+// One keypoint's samples, an array per quantity, so that the loops over the
+// samples vectorise. One set per thread, reused from keypoint to keypoint.
+struct DiscSamples {
+  std::vector<float> x, y;         // image position
+  std::vector<int> u, v, u0, v0;   // nearest pixel, and the bilinear cell's corner
+  std::vector<uint8_t> inside, on_surface, g00, g01, g10, g11;
+  std::vector<float> z, x_factor, y_factor, nx, ny, nz;  // at the nearest pixel
+  std::vector<uint8_t> counts, level;
+  std::vector<uint16_t> rho_level;
+  void resize(size_t n) {
+    for (auto* a : {&x, &y, &z, &x_factor, &y_factor, &nx, &ny, &nz}) a->resize(n);
+    for (auto* a : {&u, &v, &u0, &v0}) a->resize(n);
+    for (auto* a : {&inside, &on_surface, &g00, &g01, &g10, &g11, &counts, &level}) a->resize(n);
+    rho_level.resize(n);
+  }
+};
+
+DiscSamples& discSamples() {
+  thread_local DiscSamples samples;
+  return samples;
+}
+
+// The disc's offsets (di, dj) in units of its radius, rotated by theta
+// (cos_t and sin_t scaled by the radius) about the keypoint (cu, cv): the
+// patch's x axis along theta, its y axis 90 degrees on (image v points
+// down). Each sample's nearest pixel (rounded half to even, as cvRound) and
+// bilinear cell, clamped into the image; samples outside it are marked.
+RISAS_VECTOR_CLONES
+void placeSamples(const float* di, const float* dj, int n, float cu, float cv, float cos_t, float sin_t, int cols,
+                  int rows, DiscSamples& d) {
+  const float max_u = static_cast<float>(cols - 1), max_v = static_cast<float>(rows - 1);
+  float *x = d.x.data(), *y = d.y.data();
+  int *u = d.u.data(), *v = d.v.data(), *u0 = d.u0.data(), *v0 = d.v0.data();
+  uint8_t* inside = d.inside.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float xs = cu + cos_t * di[s] - sin_t * dj[s];
+    const float ys = cv + sin_t * di[s] + cos_t * dj[s];
+    x[s] = xs, y[s] = ys;
+    inside[s] = (xs >= 0.0f) & (ys >= 0.0f) & (xs <= max_u) & (ys <= max_v);
+    // Clamped in float first, so that the conversions stay in an int's range.
+    const float xc = std::min(xs > 0.0f ? xs : 0.0f, max_u), yc = std::min(ys > 0.0f ? ys : 0.0f, max_v);
+    u[s] = static_cast<int>(std::nearbyint(xc));
+    v[s] = static_cast<int>(std::nearbyint(yc));
+    u0[s] = std::min(static_cast<int>(xc), cols - 2);
+    v0[s] = std::min(static_cast<int>(yc), rows - 2);
+  }
+}
+
+// Each sample's look-ups, one by one: its pixel's surface flag, block normal,
+// depth and back-projection factors, and its cell's 2 x 2 grey values.
+// Stride is an int or, for the default, a compile-time constant (a shift).
+template <class Stride>
+void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
+  // Raw pointers: the byte stores could alias anything read through d.
+  const int *pu = d.u.data(), *pv = d.v.data(), *pu0 = d.u0.data(), *pv0 = d.v0.data();
+  uint8_t *on = d.on_surface.data(), *g00 = d.g00.data(), *g01 = d.g01.data(), *g10 = d.g10.data();
+  uint8_t* g11 = d.g11.data();
+  float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data(), *z = d.z.data();
+  float *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
+  const size_t gray_step = gray.step;
+  for (int s = 0; s < n; ++s) {
+    const int u = pu[s], v = pv[s];
+    on[s] = geometry.on_block_surface.at<uchar>(v, u);
+    const unsigned block_stride = stride;
+    const cv::Vec3f& normal = geometry.normals.at<cv::Vec3f>(static_cast<unsigned>(v) / block_stride,
+                                                             static_cast<unsigned>(u) / block_stride);
+    nx[s] = normal[0], ny[s] = normal[1], nz[s] = normal[2];
+    z[s] = geometry.depth.at<float>(v, u);
+    x_factor[s] = geometry.x_factor[static_cast<size_t>(u)];
+    y_factor[s] = geometry.y_factor[static_cast<size_t>(v)];
+    const uchar* row0 = gray.ptr<uchar>(pv0[s]) + pu0[s];
+    const uchar* row1 = row0 + gray_step;
+    g00[s] = row0[0], g01[s] = row0[1], g10[s] = row1[0], g11[s] = row1[1];
+  }
+}
+
+// The keypoint's point k and normal n_k, with the squared background
+// distance t^2 and rho-bar.
+struct KeypointFrame {
+  float kx, ky, kz, nkx, nky, nkz, t2, rho_bar;
+};
+
+// Which samples count (inside the image, on their block's surface with a
+// normal, FrameGeometry::hasNormal, and not background, eq. 5), their
+// bilinear grey level rounded to 0 .. 255, and their shape level: the flat
+// majority (rho >= rho-bar) is level kRhoLevels, the rest are ranked on
+// kRhoLevels levels of rho / rho-bar.
+constexpr int kRhoLevels = 256;
+RISAS_VECTOR_CLONES
+void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
+  const KeypointFrame f = k;  // copied, and raw pointers: the byte stores could alias anything read through d
+  const float *x = d.x.data(), *y = d.y.data(), *z = d.z.data(), *x_factor = d.x_factor.data();
+  const float *y_factor = d.y_factor.data(), *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
+  const int *u0 = d.u0.data(), *v0 = d.v0.data();
+  const uint8_t *inside = d.inside.data(), *on = d.on_surface.data();
+  const uint8_t *g00 = d.g00.data(), *g01 = d.g01.data(), *g10 = d.g10.data(), *g11 = d.g11.data();
+  uint8_t *counts = d.counts.data(), *level = d.level.data();
+  uint16_t* rho_level = d.rho_level.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float dx = x_factor[s] * z[s] - f.kx, dy = y_factor[s] * z[s] - f.ky, dz = z[s] - f.kz;
+    counts[s] = inside[s] & (on[s] != 0) & (nz[s] != 0.0f) & (dx * dx + dy * dy + dz * dz < f.t2);
+    const float a = x[s] - static_cast<float>(u0[s]), b = y[s] - static_cast<float>(v0[s]);
+    const float intensity = (1.0f - b) * ((1.0f - a) * g00[s] + a * g01[s]) + b * ((1.0f - a) * g10[s] + a * g11[s]);
+    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));  // intensity is in [0, 255]
+    const float rho = std::abs(f.nkx * nx[s] + f.nky * ny[s] + f.nkz * nz[s]);
+    const int ranked = std::min(static_cast<int>(rho / f.rho_bar * kRhoLevels), kRhoLevels - 1);
+    rho_level[s] = static_cast<uint16_t>(rho >= f.rho_bar ? kRhoLevels : ranked);
+  }
+}
+
+}  // namespace
 
 bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry, const Neighbourhood& nb,
                           float radius_px, double theta, float* out) const {
-  using cv::v_float32x4;
-  using cv::v_int32x4;
   const cv::Mat& gray = frame.gray();
-  const int cols = gray.cols, rows = gray.rows;
-  const float cos_t = static_cast<float>(std::cos(theta)) * radius_px;
-  const float sin_t = static_cast<float>(std::sin(theta)) * radius_px;
-  const float t2 = static_cast<float>(params_.background_distance * params_.background_distance);
-  const float rho_bar = static_cast<float>(params_.rho_threshold);
-  constexpr int kRhoLevels = 256;
-  const auto all = [](double value) { return cv::v_setall_f32(static_cast<float>(value)); };
-  const v_float32x4 cu = all(nb.centre.x), cv_ = all(nb.centre.y), vcos = all(cos_t), vsin = all(sin_t);
-  const v_float32x4 max_u = all(cols - 1), max_v = all(rows - 1), zero = cv::v_setzero_f32(), one = all(1.0);
-  const v_float32x4 kx = all(nb.point.x()), ky = all(nb.point.y()), kz = all(nb.point.z());
-  const v_float32x4 nkx = all(nb.normal.x()), nky = all(nb.normal.y()), nkz = all(nb.normal.z());
-  const v_int32x4 last_col = cv::v_setall_s32(cols - 1), last_row = cv::v_setall_s32(rows - 1);
-  const v_int32x4 last_u0 = cv::v_setall_s32(cols - 2), last_v0 = cv::v_setall_s32(rows - 2);
-  const v_int32x4 first = cv::v_setzero_s32();
-
-  // The counted samples, in a per-thread buffer reused across keypoints.
-  struct Sample {
-    uint8_t sector, intensity;
-    uint16_t rho_level;  // kRhoLevels for a flat sample (rho >= rho-bar)
-  };
-  thread_local std::vector<Sample> samples;
-  samples.resize(disc_i_.size());
-  int counted = 0;
-  // rho_count[kRhoLevels] counts the flat samples, which are not ranked.
-  int intensity_count[256] = {}, rho_count[kRhoLevels + 1] = {};
-  // Four samples at a time: the arithmetic in lanes, each lane's look-ups
-  // (its pixel's surface flag, block normal, depth and 2 x 2 grey values)
-  // gathered one by one. Out-of-image lanes read a clamped pixel and are
-  // dropped.
+  const int n = static_cast<int>(disc_i_.size());
+  DiscSamples& d = discSamples();
+  d.resize(static_cast<size_t>(n));
+  placeSamples(disc_i_.data(), disc_j_.data(), n, nb.centre.x, nb.centre.y,
+               static_cast<float>(std::cos(theta)) * radius_px, static_cast<float>(std::sin(theta)) * radius_px,
+               gray.cols, gray.rows, d);
   withDefault<GeometryParams::kDefaultNormalStride>(geometry.normal_stride, [&](auto stride) {
-    for (size_t s = 0; s < disc_i_.size(); s += 4) {
-      const v_float32x4 di = cv::v_load(&disc_i_[s]), dj = cv::v_load(&disc_j_[s]);
-      // Patch x axis along theta, y axis 90 degrees on (image v points down).
-      const v_float32x4 x = cu + vcos * di - vsin * dj;
-      const v_float32x4 y = cv_ + vsin * di + vcos * dj;
-      const v_float32x4 inside = (x >= zero) & (y >= zero) & (x <= max_u) & (y <= max_v);
-      // The nearest pixel (cvRound), and the bilinear cell's corner.
-      int u[4], v[4], u0[4], v0[4];
-      cv::v_store(u, cv::v_max(cv::v_min(cv::v_round(x), last_col), first));
-      cv::v_store(v, cv::v_max(cv::v_min(cv::v_round(y), last_row), first));
-      cv::v_store(u0, cv::v_max(cv::v_min(cv::v_trunc(x), last_u0), first));
-      cv::v_store(v0, cv::v_max(cv::v_min(cv::v_trunc(y), last_v0), first));
-      float on[4], nx[4], ny[4], nz[4], z[4], xf[4], yf[4], g00[4], g01[4], g10[4], g11[4];
-      for (int l = 0; l < 4; ++l) {
-        on[l] = geometry.on_block_surface.at<uchar>(v[l], u[l]);
-        const unsigned block_stride = stride;  // a shift for the default stride
-        const cv::Vec3f& n = geometry.normals.at<cv::Vec3f>(static_cast<unsigned>(v[l]) / block_stride,
-                                                            static_cast<unsigned>(u[l]) / block_stride);
-        nx[l] = n[0], ny[l] = n[1], nz[l] = n[2];
-        z[l] = geometry.depth.at<float>(v[l], u[l]);
-        xf[l] = geometry.x_factor[static_cast<size_t>(u[l])];
-        yf[l] = geometry.y_factor[static_cast<size_t>(v[l])];
-        const uchar* row0 = gray.ptr<uchar>(v0[l]) + u0[l];
-        const uchar* row1 = row0 + gray.step;
-        g00[l] = row0[0], g01[l] = row0[1], g10[l] = row1[0], g11[l] = row1[1];
-      }
-      const v_float32x4 vz = cv::v_load(z), vnx = cv::v_load(nx), vny = cv::v_load(ny), vnz = cv::v_load(nz);
-      // On its block's surface with a normal (FrameGeometry::hasNormal), and
-      // not background (eq. 5).
-      const v_float32x4 dx = cv::v_load(xf) * vz - kx, dy = cv::v_load(yf) * vz - ky, dz = vz - kz;
-      const v_float32x4 counts = inside & (cv::v_load(on) != zero) & (vnz != zero) &
-                                 (dx * dx + dy * dy + dz * dz < all(t2));
-      const int lanes = cv::v_signmask(counts);
-      if (lanes == 0) continue;
-
-      const v_float32x4 a = x - cv::v_cvt_f32(cv::v_load(u0)), b = y - cv::v_cvt_f32(cv::v_load(v0));
-      const v_float32x4 intensity = (one - b) * ((one - a) * cv::v_load(g00) + a * cv::v_load(g01)) +
-                                    b * ((one - a) * cv::v_load(g10) + a * cv::v_load(g11));
-      int level[4], rho_level[4];
-      cv::v_store(level, cv::v_trunc(intensity + all(0.5)));  // rounded; intensity is in [0, 255]
-      // Shape: the flat majority (rho >= rho-bar) is one label; the rest are
-      // ranked on kRhoLevels levels of rho / rho-bar.
-      const v_float32x4 rho = cv::v_abs(nkx * vnx + nky * vny + nkz * vnz);
-      const v_int32x4 ranked = cv::v_min(cv::v_trunc(rho / all(rho_bar) * all(kRhoLevels)),
-                                         cv::v_setall_s32(kRhoLevels - 1));
-      cv::v_store(rho_level, cv::v_select(cv::v_reinterpret_as_s32(rho >= all(rho_bar)),
-                                          cv::v_setall_s32(kRhoLevels), ranked));
-      for (int l = 0; l < 4; ++l) {
-        if (!(lanes >> l & 1)) continue;
-        samples[static_cast<size_t>(counted++)] = {disc_sector_[s + static_cast<size_t>(l)],
-                                                    static_cast<uint8_t>(level[l]),
-                                                    static_cast<uint16_t>(rho_level[l])};
-        ++intensity_count[level[l]];
-        ++rho_count[rho_level[l]];
-      }
-    }
+    lookUpSamples(gray, geometry, stride, n, d);
   });
-  if (counted < params_.min_valid_fraction * disc_size_ || counted < 3) return false;
+  const KeypointFrame k{static_cast<float>(nb.point.x()),  static_cast<float>(nb.point.y()),
+                        static_cast<float>(nb.point.z()),  static_cast<float>(nb.normal.x()),
+                        static_cast<float>(nb.normal.y()), static_cast<float>(nb.normal.z()),
+                        static_cast<float>(params_.background_distance * params_.background_distance),
+                        static_cast<float>(params_.rho_threshold)};
+  labelSamples(k, n, d);
+
+  // The level histograms of the counted samples, added to without a branch
+  // (a sample adds its count, 0 or 1). rho_count[kRhoLevels] counts the
+  // flat samples, which are not ranked.
+  int intensity_count[256] = {}, rho_count[kRhoLevels + 1] = {}, counted = 0;
+  for (int s = 0; s < n; ++s) {
+    intensity_count[d.level[s]] += d.counts[s];
+    rho_count[d.rho_level[s]] += d.counts[s];
+    counted += d.counts[s];
+  }
+  if (counted < params_.min_valid_fraction * n || counted < 3) return false;
 
   // Rank groups by counting sort: a sample's group depends only on its
   // level, so each level's group is tabulated once.
@@ -137,11 +181,14 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   shape_label[kRhoLevels] = static_cast<uint8_t>(params_.n_vec);
 
   const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
-  std::fill(out, out + dimension(), 0.0f);
-  for (int i = 0; i < counted; ++i) {
-    const Sample& sample = samples[static_cast<size_t>(i)];
-    ++out[(sample.sector * n_bin + intensity_label[sample.intensity]) * n_shape + shape_label[sample.rho_level]];
+  thread_local std::vector<int> histogram;
+  histogram.assign(static_cast<size_t>(dimension()), 0);
+  for (int s = 0; s < n; ++s) {
+    const int bin = (disc_sector_[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
+                    shape_label[d.rho_level[s]];
+    histogram[static_cast<size_t>(bin)] += d.counts[s];
   }
+  for (int i = 0; i < dimension(); ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
   float norm = 0.0f;
   for (int d = 0; d < dimension(); ++d) norm += out[d] * out[d];
   const float inv = 1.0f / std::sqrt(norm);
