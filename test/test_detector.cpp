@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <set>
+#include <utility>
 #include <tuple>
 
 namespace risas {
@@ -275,6 +277,51 @@ TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
     cv::minMaxLoc(cv::abs(expected), nullptr, &largest);
     EXPECT_LT(cv::norm(Detector(params).response(small, g), expected, cv::NORM_INF), 1e-5 * largest)
         << "window sigma " << window_sigma;
+  }
+}
+
+TEST(Detector, KeypointsAreTheResponsesLocalMaximaAboveTheThreshold) {
+  // Against a brute-force search of the response: every pixel inside the
+  // border whose response clears the threshold and is not exceeded in its
+  // (2 nms_radius + 1)^2 window, with a normal. With no border, the first and
+  // last rows and columns, whose windows are cut by the image, count too.
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  for (const auto& [border, nms_radius] : {std::pair(8, 2), std::pair(0, 1), std::pair(3, 4)}) {
+    DetectorParams params;
+    params.border = border;
+    params.nms_radius = nms_radius;
+    params.max_keypoints = 100000;
+    params.response_threshold = 1e-4;
+    const cv::Mat R = Detector(params).response(frame, g);
+    double largest = 0.0;
+    cv::minMaxLoc(R, nullptr, &largest);
+    const float threshold = static_cast<float>(params.response_threshold * largest);
+    std::set<std::pair<int, int>> expected;
+    for (int v = border; v < R.rows - border; ++v) {
+      for (int u = border; u < R.cols - border; ++u) {
+        const float value = R.at<float>(v, u);
+        if (!(value > threshold) || !g.hasNormal(v, u)) continue;
+        const cv::Rect window = cv::Rect(u - nms_radius, v - nms_radius, 2 * nms_radius + 1, 2 * nms_radius + 1) &
+                                cv::Rect(0, 0, R.cols, R.rows);
+        double window_max = 0.0;
+        cv::minMaxLoc(R(window), nullptr, &window_max);
+        if (window_max <= value) expected.emplace(v, u);
+      }
+    }
+    std::vector<cv::KeyPoint> keypoints;
+    Detector(params).detect(frame, g, keypoints);
+    std::set<std::pair<int, int>> actual;
+    for (const cv::KeyPoint& k : keypoints) actual.emplace(cvRound(k.pt.y), cvRound(k.pt.x));
+    EXPECT_EQ(actual.size(), keypoints.size());
+    EXPECT_EQ(actual, expected) << "border " << border << ", nms_radius " << nms_radius;
+    EXPECT_GT(expected.size(), 100u);
+    if (border == 0) {
+      const bool on_edge = std::any_of(expected.begin(), expected.end(), [&](const std::pair<int, int>& p) {
+        return p.first == 0 || p.second == 0 || p.first == R.rows - 1 || p.second == R.cols - 1;
+      });
+      EXPECT_TRUE(on_edge) << "no maximum on the image's edge to check";
+    }
   }
 }
 

@@ -10,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -159,6 +161,22 @@ struct WindowRows {
   float* window(int entry) { return row(kGradients + kTensor + kTensor * span + entry); }
 };
 
+// Row v's candidates for a local maximum (1, else 0): above the threshold and
+// not below any 4-neighbour, which no maximum of a larger window is. up and
+// down are rows v - 1 and v + 1 (the row itself at the image's edges); the
+// first and last columns, which lack a side neighbour, are candidates when
+// above the threshold.
+RISAS_VECTOR_CLONES
+void candidateRow(const float* __restrict up, const float* __restrict row, const float* __restrict down,
+                  float threshold, int cols, uchar* __restrict candidate) {
+  for (int u = 1; u < cols - 1; ++u) {  // vectorised
+    const float c = row[u];
+    candidate[u] = (c > threshold) & (c >= row[u - 1]) & (c >= row[u + 1]) & (c >= up[u]) & (c >= down[u]);
+  }
+  candidate[0] = row[0] > threshold;
+  candidate[cols - 1] = row[cols - 1] > threshold;
+}
+
 }  // namespace
 
 Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
@@ -245,8 +263,8 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   const float threshold = static_cast<float>(params_.response_threshold * max_response);
 
   // Non-maximum suppression: a keypoint is the largest response of its
-  // (2 nms_radius + 1)^2 neighbourhood. Tested where the response clears the
-  // threshold only, the row's two neighbours first: most pixels fail there,
+  // (2 nms_radius + 1)^2 neighbourhood. Tested in full only at candidates
+  // (candidateRow), found a whole row at a time: most pixels fail there,
   // without a full-frame maximum filter.
   const int radius = params_.nms_radius;
   const auto isLocalMaximum = [&](int v, int u, float value) {
@@ -259,18 +277,21 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
     return true;
   };
   const int b = params_.border, u_end = R.cols - b;
-  const cv::v_float32x4 threshold4 = cv::v_setall_f32(threshold);
+  thread_local std::vector<uchar> candidates;
+  candidates.assign(static_cast<size_t>(R.cols) + 8, 0);  // room to read whole eights
   for (int v = b; v < R.rows - b; ++v) {
     const float* r = R.ptr<float>(v);
+    candidateRow(R.ptr<float>(std::max(v - 1, 0)), r, R.ptr<float>(std::min(v + 1, R.rows - 1)), threshold,
+                 R.cols, candidates.data());
     const uchar* allowed = mask.empty() ? nullptr : mask.ptr<uchar>(v);
     for (int u = b; u < u_end; ++u) {
-      // Most of the frame is below the threshold: passed four at a time.
-      if (u + 4 <= u_end && !cv::v_check_any(cv::v_load(r + u) > threshold4)) {
-        u += 3;
+      uint64_t eight;  // passed eight at a time where there is none
+      std::memcpy(&eight, candidates.data() + u, sizeof eight);
+      if (eight == 0) {
+        u += 7;
         continue;
       }
-      if (r[u] <= threshold || (u > 0 && r[u - 1] > r[u]) || (u + 1 < R.cols && r[u + 1] > r[u])) continue;
-      if (!isLocalMaximum(v, u, r[u])) continue;
+      if (!candidates[static_cast<size_t>(u)] || !isLocalMaximum(v, u, r[u])) continue;
       if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) continue;
       keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
                              static_cast<float>(6.0 * params_.window_sigma), -1.0f, r[u]);
