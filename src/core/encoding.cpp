@@ -134,9 +134,11 @@ void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
     counts[s] = inside[s] & (on[s] != 0) & (nz[s] != 0.0f) & (dx * dx + dy * dy + dz * dz < f.t2);
     const float a = x[s] - static_cast<float>(u0[s]), b = y[s] - static_cast<float>(v0[s]);
     const float intensity = (1.0f - b) * ((1.0f - a) * g00[s] + a * g01[s]) + b * ((1.0f - a) * g10[s] + a * g11[s]);
-    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));  // intensity is in [0, 255]
+    // Rounded; in [0, 255] inside the image, and only those samples count.
+    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));
     const float rho = std::abs(f.nkx * nx[s] + f.nky * ny[s] + f.nkz * nz[s]);
-    const int ranked = std::min(static_cast<int>(rho / f.rho_bar * kRhoLevels), kRhoLevels - 1);
+    const float ratio = rho < f.rho_bar ? rho / f.rho_bar : 1.0f;  // no division by a rho-bar of 0
+    const int ranked = std::min(static_cast<int>(ratio * kRhoLevels), kRhoLevels - 1);
     rho_level[s] = static_cast<uint16_t>(rho >= f.rho_bar ? kRhoLevels : ranked);
   }
 }
