@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -79,10 +80,15 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // Per grey level: how many kept pixels have it, and the sum of their image
   // offsets. The rank-weighted centroid below needs nothing more.
   int count[256] = {};
-  int offset_u[256] = {}, offset_v[256] = {};
+  // Both offsets' sums in one integer, v's scaled by 2^32: one addition per
+  // pixel instead of two. The u sum is the low 32 bits read as signed (the
+  // multiples of 2^32 do not reach them), the v sum what remains over 2^32:
+  // exact while each sum fits 32 bits, as two separate sums needed too.
+  int64_t offsets[256] = {};
   // Pixels u .. u + 3 of row v0 + dv: their depths and x factors.
   const auto accumulate = [&](const float* depth, const float* x_factor, float y_factor, const uchar* gray, int u,
                               int dv) {
+    const int64_t row_offset = static_cast<int64_t>(dv) * (int64_t{1} << 32);
     const v_float32x4 z = cv::v_load(depth);
     v_float32x4 x = cv::v_load(x_factor) * z - kx, y = cv::v_setall_f32(y_factor) * z - ky, dz = z - kz;
     // eq. 5: background beyond t (a NaN point compares false and is dropped)
@@ -95,8 +101,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
       if (!(lanes >> i & 1)) continue;
       const uchar g = gray[u + i];
       ++count[g];
-      offset_u[g] += u + i - u0;
-      offset_v[g] += dv;
+      offsets[g] += row_offset + (u + i - u0);
     }
   };
   for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
@@ -153,7 +158,9 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   for (int g = 0; g < 256; ++g) {
     if (count[g] == 0) continue;
     const double mid_rank = below[g] + 0.5 * (count[g] - 1);
-    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offset_u[g], offset_v[g]);
+    const int32_t offset_u = static_cast<int32_t>(static_cast<uint32_t>(offsets[g]));
+    const int64_t offset_v = (offsets[g] - offset_u) / (int64_t{1} << 32);
+    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offset_u, static_cast<double>(offset_v));
   }
   return nb;
 }
