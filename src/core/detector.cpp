@@ -139,21 +139,29 @@ void symmetricWindow(const float* const* taps, const float* half, Radius radius,
   }
 }
 
-// One thread's rows for the window stage (see computeResponse): rows `pitch`
-// floats apart, a little more than the image's width. (Rows a multiple of
-// 4 KiB apart made the CPU take each row's loads for reads of the stores
-// just made to another row, 4K aliasing, and stall on them.)
+// One thread's rows for the window stage (see computeResponse): rows an odd
+// number of cache lines apart, starting on a line, so that the filters'
+// vector loads of a whole row's columns do not straddle lines. (An odd
+// number: rows a multiple of 4 KiB apart made the CPU take each row's loads
+// for reads of the stores just made to another row, 4K aliasing, and stall
+// on them; odd multiples of 64 bytes never meet a 4 KiB multiple within 64
+// rows.)
 struct WindowRows {
   static constexpr int kGradients = 4, kTensor = 3;  // gx, gy, px, py; xx, xy, yy
+  static constexpr size_t kLineFloats = 64 / sizeof(float);
   std::vector<float> data;
+  float* base = nullptr;  // data's first cache-line boundary
   size_t pitch = 0;
   int span = 0;  // rows of the window, 2 radius + 1
   void reset(int cols, int radius) {
-    pitch = static_cast<size_t>(cols + 2 * radius + 3) / 4 * 4 + 8;
+    const size_t lines = (static_cast<size_t>(cols + 2 * radius) + kLineFloats - 1) / kLineFloats + 1;
+    pitch = (lines | 1) * kLineFloats;
     span = 2 * radius + 1;
-    data.resize(pitch * static_cast<size_t>(kGradients + kTensor + kTensor * span + kTensor));
+    data.resize(pitch * static_cast<size_t>(kGradients + kTensor + kTensor * span + kTensor) + kLineFloats);
+    base = data.data();
+    while (reinterpret_cast<uintptr_t>(base) % 64) ++base;
   }
-  float* row(int i) { return data.data() + static_cast<size_t>(i) * pitch; }
+  float* row(int i) { return base + static_cast<size_t>(i) * pitch; }
   float* gradient(int i) { return row(i); }
   float* tensor(int entry) { return row(kGradients + entry); }  // with room for the border
   // Entry e of the filtered tensor row r, kept while the window reaches it.
