@@ -429,7 +429,7 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
     for (int i = bands.start; i < bands.end; ++i) {
       const int v_begin = i * kBandRows, v_end = std::min(v_begin + kBandRows, rows);
       band.columns.reset(cols, radius);
-      const cv::Vec3f reference = bandReference(grid, v_begin, std::min(v_end, rows));
+      const cv::Vec3f reference = bandReference(grid, v_begin, v_end);
       const auto accumulate = [&](int r, float sign) {
         band.columns.accumulate(grid.x.ptr<float>(r), grid.y.ptr<float>(r), grid.z.ptr<float>(r),
                                 interior.ptr<uchar>(r), sign, reference);
