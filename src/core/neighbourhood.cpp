@@ -108,7 +108,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     const float row_r2 = r2 - static_cast<float>(dv * dv);
     if (row_r2 < 0.0f) continue;
     const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
-    const int v = v0 + dv, u_end = std::min(u0 + half, size.width - 1) + 1;
+    const int v = v0 + dv, u_begin = std::max(u0 - half, 0), u_end = std::min(u0 + half, size.width - 1) + 1;
     const float* depth = geometry.depth.ptr<float>(v);
     const float* x_factor = geometry.x_factor.data();
     const float y_factor = geometry.y_factor[static_cast<size_t>(v)];
@@ -119,13 +119,13 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     // arrive while this one is summed. (A prefetch past the image is dropped.)
     constexpr int kPrefetchRows = 2;
     if (v + kPrefetchRows < size.height) {
-      const int u_begin = std::max(u0 - half, 0);
-      const float* next = geometry.depth.ptr<float>(v + kPrefetchRows);
-      for (int u = u_begin; u < u_end + 16; u += 16) __builtin_prefetch(next + u);
-      __builtin_prefetch(frame.gray().ptr<uchar>(v + kPrefetchRows) + u_begin);
-      __builtin_prefetch(frame.gray().ptr<uchar>(v + kPrefetchRows) + u_end);
+      const float* next_depth = geometry.depth.ptr<float>(v + kPrefetchRows);
+      for (int u = u_begin; u < u_end + 16; u += 16) __builtin_prefetch(next_depth + u);
+      const uchar* next_gray = frame.gray().ptr<uchar>(v + kPrefetchRows);
+      __builtin_prefetch(next_gray + u_begin);
+      __builtin_prefetch(next_gray + u_end);
     }
-    int u = std::max(u0 - half, 0);
+    int u = u_begin;
     for (; u + 4 <= u_end; u += 4) accumulate(depth + u, x_factor + u, y_factor, gray, u, dv);
     if (u < u_end) {  // the last pixels, from copies padded with NaN depth, which is never kept
       float tail_depth[4], tail_x_factor[4] = {};

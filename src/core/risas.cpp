@@ -13,14 +13,17 @@ namespace {
 
 // Calls use(geometry) with the frame's geometry in this thread's buffers,
 // reused from frame to frame (none of the calls below keeps it past its
-// return). The geometry shares the frame's depth; it is let go afterwards so
-// that the caller's frame is not held until the next call.
+// return). The geometry shares the frame's depth; it is let go afterwards,
+// also after an exception, so that the caller's frame is not held until the
+// next call.
 template <class Use>
 void withGeometry(const RgbdFrame& frame, const GeometryParams& params, Use&& use) {
   thread_local FrameGeometry geometry;
+  struct ReleaseDepth {  // also when use throws (bad input)
+    ~ReleaseDepth() { geometry.depth.release(); }
+  } release;
   computeGeometry(frame, params, geometry);
   use(geometry);
-  geometry.depth.release();
 }
 
 }  // namespace
