@@ -145,6 +145,28 @@ TEST(Geometry, PixelsWithoutDepthHaveNoNormal) {
   EXPECT_LT(angleDeg(g.normal(40, 50), cv::Vec3f(0, 0, -1)), 0.5);
 }
 
+TEST(Geometry, ABlockBelongsToTheSurfaceOfItsFirstPointWithDepth) {
+  // Two planes facing the camera, 1 m and 1.5 m away, meet at a jump between
+  // columns 30 and 31: the blocks of the default stride, 2, on the jump hold
+  // one column of each. A block takes the surface of its first point in
+  // row-major order that has depth; in odd block rows that point's depth is
+  // missing, so the block takes the far plane instead of the near one.
+  ASSERT_EQ(GeometryParams::kDefaultNormalStride, 2);
+  cv::Mat depth(48, 64, CV_16UC1, cv::Scalar(1500));
+  depth.colRange(0, 31).setTo(1000);
+  for (int r = 2; r < depth.rows; r += 4) depth.at<uint16_t>(r, 30) = 0;
+  const RgbdFrame frame(cv::Mat(depth.size(), CV_8UC1, cv::Scalar(50)), depth, Intrinsics(60, 60, 32, 24));
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  // on_block_surface marks the pixels on their block's surface (near the
+  // jump the windows themselves may hold too few points for a normal).
+  for (int r = 0; r < depth.rows; ++r) {
+    const bool near_block = r / 2 % 2 == 0, missing = r % 4 == 2;
+    EXPECT_EQ(g.on_block_surface.at<uchar>(r, 30) != 0, near_block) << "row " << r;
+    EXPECT_EQ(g.on_block_surface.at<uchar>(r, 31) != 0, !near_block) << "row " << r;
+    EXPECT_EQ(g.hasPoint(r, 30), !missing) << "row " << r;
+  }
+}
+
 // The largest angle between a normal of g and a direct double-precision PCA
 // of its window: the square of grid points within normal_radius, clamped at
 // the image edges. A grid point is its block's mean of the points on the

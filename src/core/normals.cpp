@@ -137,8 +137,9 @@ struct BlockRowSums {
 };
 
 // Row i of the grid (see gridPoints). Stride is an int or, for the default
-// stride, a compile-time constant (withDefault): the loops over blocks
-// then read the depth row with a fixed step, which the compiler vectorises.
+// stride, a compile-time constant (withDefault): the loops over a block's
+// columns then unroll, and the loops over blocks read the depth row a
+// stride's columns at a time, which the compiler vectorises.
 template <class Stride>
 RISAS_VECTOR_CLONES
 void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const float* y_factor_of_row, int i,
@@ -151,38 +152,50 @@ void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const flo
   for (std::vector<float>* v : {&sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
     std::fill(v->begin(), v->end(), 0.0f);
   }
-  // Block column j holds image columns j stride + k; visiting k inside r
-  // keeps each block's row-major order.
-  for (int r = r_begin; r < r_end; ++r) {
+  // Blocks 0 .. whole - 1 have all stride columns, a partial block at the
+  // right edge the `rest`.
+  const int whole = cols / stride, rest = cols - whole * stride;
+  // The first valid point, as the last one met going backwards: selecting on
+  // the point just loaded, unlike selecting on whether one was found yet,
+  // leaves the loop without branches, and it vectorises.
+  for (int r = r_end - 1; r >= r_begin; --r) {
     const float* z = depth.ptr<float>(r);
-    for (int k = 0; k < stride; ++k) {
-      const int blocks = (cols - k + stride - 1) / stride;
-      for (int j = 0; j < blocks; ++j) {
-        const float candidate = z[j * stride + k];  // loaded unconditionally: the loop vectorises
-        f[j] = std::isnan(f[j]) ? candidate : f[j];
+    const auto visit = [&](int j, int columns) {
+      float first = f[j];
+      for (int k = columns - 1; k >= 0; --k) {
+        const float candidate = z[j * stride + k];
+        first = std::isnan(candidate) ? first : candidate;
       }
-    }
+      f[j] = first;
+    };
+#pragma GCC ivdep  // the arrays are distinct
+    for (int j = 0; j < whole; ++j) visit(j, stride);
+    if (rest > 0) visit(whole, rest);
   }
   for (int r = r_begin; r < r_end; ++r) {
     const float* z = depth.ptr<float>(r);
     const float y = y_factor_of_row[r - r_begin];
     uchar* on = on_surface.ptr<uchar>(r);
-    for (int k = 0; k < stride; ++k) {
-      const int blocks = (cols - k + stride - 1) / stride;
-      const float* x = x_factor.data() + k;
-#pragma GCC ivdep  // the arrays are distinct
-      for (int j = 0; j < blocks; ++j) {
-        const int c = j * stride;
+    const float* x = x_factor.data();
+    const auto visit = [&](int j, int columns) {
+      // Added in the block's row-major order, as a running sum per block.
+      float bn = n[j], bx = sx[j], by = sy[j], bz = sz[j];
+      for (int k = 0; k < columns; ++k) {
+        const int c = j * stride + k;
         // NaN compares false: a missing point is on no surface.
-        const bool in = std::abs(z[c + k] - f[j]) <= depth_change_factor * f[j];
-        const float w = in ? 1.0f : 0.0f, zc = in ? z[c + k] : 0.0f;
-        on[c + k] = in ? 255 : 0;
-        n[j] += w;
-        sx[j] += x[c] * zc;
-        sy[j] += y * zc;
-        sz[j] += zc;
+        const bool in = std::abs(z[c] - f[j]) <= depth_change_factor * f[j];
+        const float zc = in ? z[c] : 0.0f;
+        on[c] = in ? 255 : 0;
+        bn += in ? 1.0f : 0.0f;
+        bx += x[c] * zc;
+        by += y * zc;
+        bz += zc;
       }
-    }
+      n[j] = bn, sx[j] = bx, sy[j] = by, sz[j] = bz;
+    };
+#pragma GCC ivdep  // the arrays are distinct
+    for (int j = 0; j < whole; ++j) visit(j, stride);
+    if (rest > 0) visit(whole, rest);
   }
   float *gx = grid.x.ptr<float>(i), *gy = grid.y.ptr<float>(i), *gz = grid.z.ptr<float>(i);
 #pragma GCC ivdep  // the arrays are distinct
