@@ -51,8 +51,8 @@ TEST(MainNormal, IsTheDominantPlanesNormal) {
 
 TEST(MainNormal, IsTheMeanOfTheMostFrequentLabelsNormals) {
   // 3 x 7 blocks: 9 without a normal (which would share a label triple if
-  // they counted), 7 near a, 5 near b; the row ends (columns 4 to 6) are
-  // loaded apart from the fours before them.
+  // they counted), 7 near a, 5 near b. (The dataset's frames exercise the
+  // vectorised loops; rows of 7 take their remainders.)
   const cv::Vec3f a = cv::normalize(cv::Vec3f(0.2f, 0.1f, -1.0f)), b = cv::normalize(cv::Vec3f(-0.8f, 0.1f, -0.6f));
   const cv::Vec3f a2 = cv::normalize(cv::Vec3f(0.25f, 0.1f, -1.0f)), none(0, 0, 0);
   const cv::Vec3f layout[3][7] = {{none, none, none, b, a, a2, a},
@@ -63,9 +63,13 @@ TEST(MainNormal, IsTheMeanOfTheMostFrequentLabelsNormals) {
     for (int c = 0; c < 7; ++c) normals.at<cv::Vec3f>(r, c) = layout[r][c];
   }
   const cv::Vec3d mean = cv::normalize(cv::Vec3d(5 * cv::Vec3d(a) + 2 * cv::Vec3d(a2)));
-  const cv::Vec3f n_main = computeMainNormal(normals, 4);
-  EXPECT_LT(cv::norm(cv::Vec3d(n_main) - mean), 1e-6);
-  EXPECT_EQ(computeMainNormal(cv::Mat(3, 7, CV_32FC3, cv::Scalar::all(0)), 4), cv::Vec3f(0, 0, -1));
+  // a and a2 share their sectors, b's differ, with the default n_s (its own
+  // compiled path) and others.
+  for (const int n_s : {DetectorParams::kDefaultN_s, 3, 5}) {
+    const cv::Vec3f n_main = computeMainNormal(normals, n_s);
+    EXPECT_LT(cv::norm(cv::Vec3d(n_main) - mean), 1e-6) << "n_s " << n_s;
+    EXPECT_EQ(computeMainNormal(cv::Mat(3, 7, CV_32FC3, cv::Scalar::all(0)), n_s), cv::Vec3f(0, 0, -1));
+  }
 }
 
 TEST(Detector, FiresOnTheCornersOfTexturedSquares) {

@@ -41,7 +41,8 @@ struct DetectorParams {
   // Weight of appearance against shape in eq. 1: tau * grey + (1 - tau) * dot-product.
   double tau = 0.8;
   // Sectors per axis angle when labelling normals for the main normal.
-  int n_s = 4;
+  static constexpr int kDefaultN_s = 4;
+  int n_s = kDefaultN_s;
   // Harris constant k of R = det(M) - k trace(M)^2.
   double harris_k = 0.04;
   // Gaussian pre-blur of the grey image (ref: 0.7 px).

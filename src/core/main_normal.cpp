@@ -1,8 +1,8 @@
 #include "risas/main_normal.hpp"
 
-#include "point_lanes.hpp"
+#include "vector_clones.hpp"
+#include "with_default.hpp"
 
-#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -32,6 +32,46 @@ cv::Vec3i labelsOf(const cv::Vec3f& normal, const SectorBoundaries& boundaries) 
   return {boundaries.sector(normal[0]), boundaries.sector(normal[1]), boundaries.sector(normal[2])};
 }
 
+// The bin of each of a row's normals, (x sector n_s + y sector) n_s +
+// z sector as labelsOf gives them, or n_s^3 where there is no normal. N_s is
+// an int or, for the default, a compile-time constant (withDefault): the
+// loop over the boundaries then unrolls and the loop over normals vectorises.
+template <class N_s>
+RISAS_VECTOR_CLONES
+void binRow(const float* __restrict xyz, int cols, const float* __restrict cosines, N_s n_s, int* __restrict bin) {
+  for (int c = 0; c < cols; ++c) {
+    const float x = xyz[3 * c], y = xyz[3 * c + 1], z = xyz[3 * c + 2];
+    int lx = 0, ly = 0, lz = 0;
+    for (int k = 0; k < n_s - 1; ++k) {
+      lx += x < cosines[k];
+      ly += y < cosines[k];
+      lz += z < cosines[k];
+    }
+    bin[c] = z == 0.0f ? n_s * n_s * n_s : (lx * n_s + ly) * n_s + lz;
+  }
+}
+
+// Adds the x, y and z of a row's normals in bin `mode` into sums, normal c
+// into lane c % kModeLanes of each coordinate's kModeLanes doubles: the
+// compiler keeps one floating-point sum in order and scalar, lanes it
+// vectorises.
+constexpr int kModeLanes = 8;
+RISAS_VECTOR_CLONES
+void addModeRow(const float* __restrict xyz, const int* __restrict bin, int cols, int mode,
+                double* __restrict sums) {
+  const auto add = [&](int c, int lane) {
+    // Weighed rather than selected: the compiler turns a selected value
+    // into a masked load, which it does not vectorise.
+    const double in = bin[c] == mode ? 1.0 : 0.0;
+    for (int axis = 0; axis < 3; ++axis) sums[axis * kModeLanes + lane] += in * xyz[3 * c + axis];
+  };
+  int c = 0;
+  for (; c + kModeLanes <= cols; c += kModeLanes) {
+    for (int lane = 0; lane < kModeLanes; ++lane) add(c + lane, lane);
+  }
+  for (int lane = 0; c < cols; ++c, ++lane) add(c, lane);
+}
+
 }  // namespace
 
 cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) { return labelsOf(normal, SectorBoundaries(n_s)); }
@@ -40,34 +80,15 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
   CV_Assert(normals.type() == CV_32FC3 && n_s >= 1);
   const int bins = n_s * n_s * n_s;  // bin `bins`: no normal
   const SectorBoundaries boundaries(n_s);
-  // The bin of each normal, four at a time: their x, y and z de-interleaved
-  // into lanes, each lane's labels counted by comparisons as labelsOf does.
-  using cv::v_float32x4;
-  using cv::v_int32x4;
-  const auto binsOf = [&](const float* xyz, int* out) {
-    v_float32x4 x, y, z;
-    cv::v_load_deinterleave(xyz, x, y, z);
-    v_int32x4 lx = cv::v_setzero_s32(), ly = lx, lz = lx;
-    for (float b : boundaries.cosines) {
-      const v_float32x4 boundary = cv::v_setall_f32(b);
-      // A true comparison is all ones, -1 as an integer.
-      lx -= cv::v_reinterpret_as_s32(x < boundary);
-      ly -= cv::v_reinterpret_as_s32(y < boundary);
-      lz -= cv::v_reinterpret_as_s32(z < boundary);
-    }
-    const v_int32x4 n = cv::v_setall_s32(n_s);
-    const v_int32x4 bin = (lx * n + ly) * n + lz;
-    const v_int32x4 none = cv::v_reinterpret_as_s32(z == cv::v_setzero_f32());
-    cv::v_store(out, cv::v_select(none, cv::v_setall_s32(bins), bin));
-  };
-  // Per normal, reused from frame to frame; rows padded to whole fours.
-  const int cols = normals.cols, padded_cols = (cols + 3) / 4 * 4;
+  // The bin of each normal, reused from frame to frame.
+  const int cols = normals.cols;
   thread_local std::vector<int> bin_of;
-  bin_of.resize(static_cast<size_t>(normals.rows) * padded_cols);
+  bin_of.resize(normals.total());
   for (int r = 0; r < normals.rows; ++r) {
-    int* bin = bin_of.data() + static_cast<size_t>(r) * padded_cols;
-    inFours(normals.ptr<cv::Vec3f>(r), cols, cv::Vec3f(0, 0, 0),
-            [&](const float* xyz, int c) { binsOf(xyz, bin + c); });
+    withDefault<DetectorParams::kDefaultN_s>(n_s, [&](auto fixed_n_s) {
+      binRow(normals.ptr<float>(r), cols, boundaries.cosines.data(), fixed_n_s,
+             bin_of.data() + static_cast<size_t>(r) * cols);
+    });
   }
   // Counted in four histograms taking turns: neighbouring normals mostly
   // share a bin, and in one histogram each count would wait for the last.
@@ -78,25 +99,16 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
   for (size_t i = 0; i < counts.size(); ++i) histogram[i % copy_size] += counts[i];
   const int mode = static_cast<int>(std::max_element(histogram.begin(), histogram.end() - 1) - histogram.begin());
   if (histogram[static_cast<size_t>(mode)] == 0) return {0.0f, 0.0f, -1.0f};
-  // The mean of the mode's normals, four at a time in double lanes, the
-  // others masked out: branching on a normal's bin would mispredict.
-  using cv::v_float64x2;
-  v_float64x2 sx = cv::v_setzero_f64(), sy = sx, sz = sx;
-  const auto addModes = [&](const float* xyz, const int* bin) {
-    v_float32x4 x, y, z;
-    cv::v_load_deinterleave(xyz, x, y, z);
-    const v_float32x4 in = cv::v_reinterpret_as_f32(cv::v_load(bin) == cv::v_setall_s32(mode));
-    x = x & in, y = y & in, z = z & in;
-    sx += cv::v_cvt_f64(x) + cv::v_cvt_f64_high(x);
-    sy += cv::v_cvt_f64(y) + cv::v_cvt_f64_high(y);
-    sz += cv::v_cvt_f64(z) + cv::v_cvt_f64_high(z);
-  };
+  // The mean of the mode's normals, summed in double: the others masked
+  // out, since branching on a normal's bin would mispredict.
+  double sums[3 * kModeLanes] = {};
   for (int r = 0; r < normals.rows; ++r) {
-    const int* bin = bin_of.data() + static_cast<size_t>(r) * padded_cols;
-    inFours(normals.ptr<cv::Vec3f>(r), cols, cv::Vec3f(0, 0, 0),
-            [&](const float* xyz, int c) { addModes(xyz, bin + c); });
+    addModeRow(normals.ptr<float>(r), bin_of.data() + static_cast<size_t>(r) * cols, cols, mode, sums);
   }
-  const cv::Vec3d sum(cv::v_reduce_sum(sx), cv::v_reduce_sum(sy), cv::v_reduce_sum(sz));
+  cv::Vec3d sum(0, 0, 0);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int lane = 0; lane < kModeLanes; ++lane) sum[axis] += sums[axis * kModeLanes + lane];
+  }
   const cv::Vec3d mean = cv::normalize(sum);
   return cv::Vec3f(static_cast<float>(mean[0]), static_cast<float>(mean[1]), static_cast<float>(mean[2]));
 }
