@@ -3,6 +3,7 @@
 #include "risas/errors.hpp"
 #include "risas/main_normal.hpp"
 
+#include "marked_columns.hpp"
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
@@ -11,7 +12,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -292,18 +292,12 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
     candidateRow(R.ptr<float>(std::max(v - 1, 0)), r, R.ptr<float>(std::min(v + 1, R.rows - 1)), threshold,
                  R.cols, candidates.data());
     const uchar* allowed = mask.empty() ? nullptr : mask.ptr<uchar>(v);
-    for (int u = b; u < u_end; ++u) {
-      uint64_t eight;  // passed eight at a time where there is none
-      std::memcpy(&eight, candidates.data() + u, sizeof eight);
-      if (eight == 0) {
-        u += 7;
-        continue;
-      }
-      if (!candidates[static_cast<size_t>(u)] || !isLocalMaximum(v, u, r[u])) continue;
-      if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) continue;
+    forEachMarked(candidates.data(), b, u_end, [&](int u) {
+      if (!isLocalMaximum(v, u, r[u])) return;
+      if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) return;
       keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
                              static_cast<float>(6.0 * params_.window_sigma), -1.0f, r[u]);
-    }
+    });
   }
   retainBestSpread(keypoints, params_.max_keypoints, frame.size(), params_.grid_cols, params_.grid_rows);
 }

@@ -1,5 +1,6 @@
 #include "risas/geometry.hpp"
 
+#include "marked_columns.hpp"
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
@@ -410,7 +411,15 @@ cv::Vec3f bandReference(const GridCloud& grid, int v_begin, int v_end) {
 struct BandBuffers {
   RowMoments columns, boxes;
   RowCovariances covariances;
+  std::vector<uchar> mixed;  // see mixedWindows; 8 bytes of room for forEachMarked
 };
+
+// 1 where a row's window holds points of its centre's surface and of
+// another (see windowsOnOneSurface), else 0.
+RISAS_VECTOR_CLONES
+void mixedWindows(const int* label, const float* low, const float* high, int cols, uchar* __restrict mixed) {
+  for (int u = 0; u < cols; ++u) mixed[u] = (label[u] != 0) & (low[u] != high[u]);
+}
 
 // Normals fitted at every point of a (grid) cloud, windows of half-width
 // radius; (0, 0, 0) where none.
@@ -439,6 +448,7 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
     thread_local BandBuffers band;
     band.covariances.resize(cols);
     band.boxes.reset(cols, 0);
+    band.mixed.assign(static_cast<size_t>(cols) + 8, 0);
     for (int i = bands.start; i < bands.end; ++i) {
       const int v_begin = i * kBandRows, v_end = std::min(v_begin + kBandRows, rows);
       band.columns.reset(cols, radius);
@@ -457,13 +467,10 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
           boxCovariances(band.columns, cols, fixed_radius, band.boxes, band.covariances);
         });
         const int* label = surfaces.ptr<int>(v);
-        const float* low = b.window_low.ptr<float>(v);
-        const float* high = b.window_high.ptr<float>(v);
-        for (int u = 0; u < cols; ++u) {
-          if (label[u] != 0 && low[u] != high[u]) {
-            sameSurfaceCovariance(grid, surfaces, v, u, radius, band.covariances);
-          }
-        }
+        mixedWindows(label, b.window_low.ptr<float>(v), b.window_high.ptr<float>(v), cols, band.mixed.data());
+        forEachMarked(band.mixed.data(), 0, cols, [&](int u) {
+          sameSurfaceCovariance(grid, surfaces, v, u, radius, band.covariances);
+        });
         fitRow(band.covariances, grid.x.ptr<float>(v), grid.y.ptr<float>(v), grid.z.ptr<float>(v), label,
                static_cast<float>(min_points), cols, normals.ptr<cv::Vec3f>(v));
       }
