@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <set>
 #include <utility>
 #include <tuple>
@@ -69,6 +70,61 @@ TEST(MainNormal, IsTheMeanOfTheMostFrequentLabelsNormals) {
     const cv::Vec3f n_main = computeMainNormal(normals, n_s);
     EXPECT_LT(cv::norm(cv::Vec3d(n_main) - mean), 1e-6) << "n_s " << n_s;
     EXPECT_EQ(computeMainNormal(cv::Mat(3, 7, CV_32FC3, cv::Scalar::all(0)), n_s), cv::Vec3f(0, 0, -1));
+  }
+}
+
+// P with OpenCV's filters: the blocks' 255 |n_main . n| and weights (1 where
+// there is a normal), each blurred with sigma / stride (kernel cut at
+// 3 sigma, replicated border), divided, enlarged to whole blocks with
+// cv::resize (INTER_LINEAR) and cropped to the frame.
+cv::Mat referenceDotProductImage(const FrameGeometry& g, const cv::Vec3f& n_main, double sigma) {
+  const cv::Mat& normals = g.normals;
+  cv::Mat p(normals.size(), CV_32FC1), w(normals.size(), CV_32FC1);
+  for (int r = 0; r < normals.rows; ++r) {
+    for (int c = 0; c < normals.cols; ++c) {
+      const cv::Vec3f n = normals.at<cv::Vec3f>(r, c);
+      w.at<float>(r, c) = n[2] != 0.0f ? 1.0f : 0.0f;
+      p.at<float>(r, c) = 255.0f * std::abs(n_main.dot(n)) * w.at<float>(r, c);
+    }
+  }
+  const int stride = g.normal_stride;
+  if (sigma > 0.0) {
+    const double s = sigma / stride;
+    const cv::Size kernel(2 * cvCeil(3 * s) + 1, 2 * cvCeil(3 * s) + 1);
+    cv::GaussianBlur(p, p, kernel, s, s, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(w, w, kernel, s, s, cv::BORDER_REPLICATE);
+  }
+  cv::Mat ratio(p.size(), CV_32FC1), enlarged;
+  for (int r = 0; r < p.rows; ++r) {
+    for (int c = 0; c < p.cols; ++c) {
+      ratio.at<float>(r, c) = w.at<float>(r, c) > 1e-3f ? p.at<float>(r, c) / w.at<float>(r, c) : 0.0f;
+    }
+  }
+  cv::resize(ratio, enlarged, cv::Size(p.cols * stride, p.rows * stride), 0, 0, cv::INTER_LINEAR);
+  return enlarged(cv::Rect(cv::Point(0, 0), g.size())).clone();
+}
+
+TEST(DotProductImage, IsTheNormalisedConvolutionOfTheBlocksEnlargedAsOpenCVWould) {
+  // A frame of no whole number of blocks, with a hole in its depth; the
+  // default stride and sigma (their own compiled paths) and others.
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const cv::Rect crop(163, 125, 301, 203);
+  cv::Mat depth = frame.depth()(crop).clone();
+  depth(cv::Rect(40, 60, 30, 25)).setTo(std::numeric_limits<float>::quiet_NaN());
+  const Intrinsics& K = frame.intrinsics();
+  const RgbdFrame small(frame.gray()(crop).clone(), depth, Intrinsics(K.fx, K.fy, K.cx - crop.x, K.cy - crop.y));
+  for (const int stride : {GeometryParams::kDefaultNormalStride, 3}) {
+    GeometryParams params;
+    params.normal_stride = stride;
+    const FrameGeometry g = computeGeometry(small, params);
+    const cv::Vec3f n_main = computeMainNormal(g.normals, DetectorParams::kDefaultN_s);
+    for (const double sigma : {DetectorParams().dp_sigma, 2.0, 0.0}) {
+      cv::Mat P;
+      dotProductImage(g, n_main, sigma, P);
+      ASSERT_EQ(P.size(), small.size());
+      EXPECT_LT(cv::norm(P, referenceDotProductImage(g, n_main, sigma), cv::NORM_INF), 1e-3)
+          << "stride " << stride << ", sigma " << sigma;
+    }
   }
 }
 

@@ -3,6 +3,7 @@
 #include "risas/errors.hpp"
 #include "risas/main_normal.hpp"
 
+#include "gaussian_filter.hpp"
 #include "marked_columns.hpp"
 #include "vector_clones.hpp"
 #include "with_default.hpp"
@@ -40,13 +41,6 @@ template <class Stage>
 void inStripes(int rows, Stage&& stage) {
   cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& stripe) { stage(stripe); },
                     std::max(1, cv::getNumThreads()));
-}
-
-// The Gaussian kernel truncated at 3 sigma, as OpenCV itself does for 8-bit
-// images (its float default, 4 sigma, adds taps of < 0.3 % of the weight).
-cv::Size gaussianSize(double sigma) {
-  const int k = 2 * cvCeil(3.0 * sigma) + 1;
-  return {k, k};
 }
 
 // Row v of the Sobel derivatives scaled by 1/8, the central differences of a
@@ -98,45 +92,6 @@ float harrisRow(const float* __restrict xx, const float* __restrict xy, const fl
   float largest = cv::v_reduce_max(lanes);
   for (; u < cols; ++u) largest = std::max(largest, r[u]);
   return largest;
-}
-
-// The Gaussian window w of eq. 1 as its centre weight and the weights of
-// the offsets 1 .. radius (it is symmetric): OpenCV's float kernel, cut at
-// 3 sigma. The default window_sigma, 1.5, has radius 5.
-constexpr int kDefaultWindowRadius = 5;
-std::vector<float> gaussianHalfKernel(double sigma) {
-  const cv::Mat kernel = cv::getGaussianKernel(gaussianSize(sigma).width, sigma, CV_32F);
-  const int radius = kernel.rows / 2;
-  return std::vector<float>(kernel.ptr<float>(radius), kernel.ptr<float>(radius) + radius + 1);
-}
-
-// The window filter, symmetric: out[u] = half[0] taps[radius][u] + the sum
-// over t = 1 .. radius of half[t] (taps[radius - t][u] + taps[radius + t][u]).
-// Along a row, taps[i] is the row shifted by i - radius; down the columns,
-// the row at that offset. The rows have room for whole groups of four past
-// cols. With the default radius a compile-time constant (withDefault) the
-// compiler unrolls the taps and vectorises the loop as it stands, eight
-// outputs per AVX2 register; with a radius known only at run time it would
-// not vectorise it at all, so that one is written in four-wide intrinsics.
-template <class Radius>
-RISAS_VECTOR_CLONES
-void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols,
-                     float* __restrict out) {
-  if constexpr (!std::is_integral_v<Radius>) {
-    for (int u = 0; u < cols; ++u) {
-      float sum = half[0] * taps[radius][u];
-      for (int t = 1; t <= radius; ++t) sum += half[t] * (taps[radius - t][u] + taps[radius + t][u]);
-      out[u] = sum;
-    }
-  } else {
-    for (int u = 0; u < cols; u += 4) {
-      cv::v_float32x4 sum = cv::v_setall_f32(half[0]) * cv::v_load(taps[radius] + u);
-      for (int t = 1; t <= radius; ++t) {
-        sum += cv::v_setall_f32(half[t]) * (cv::v_load(taps[radius - t] + u) + cv::v_load(taps[radius + t] + u));
-      }
-      cv::v_store(out + u, sum);
-    }
-  }
 }
 
 // One thread's rows for the window stage (see computeResponse): rows an odd
@@ -215,7 +170,7 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   const std::vector<float> half = gaussianHalfKernel(window_sigma);
   const int window_radius = static_cast<int>(half.size()) - 1, cols = size.width;
   std::vector<float> row_max(static_cast<size_t>(size.height));
-  withDefault<kDefaultWindowRadius>(window_radius, [&](auto radius) {
+  withDefault<kDefaultGaussianRadius>(window_radius, [&](auto radius) {
     inStripes(size.height, [&](const cv::Range& rows) {
       thread_local WindowRows w;
       w.reset(cols, radius);

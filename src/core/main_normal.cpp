@@ -1,5 +1,6 @@
 #include "risas/main_normal.hpp"
 
+#include "gaussian_filter.hpp"
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
@@ -72,6 +73,68 @@ void addModeRow(const float* __restrict xyz, const int* __restrict bin, int cols
   for (int lane = 0; c < cols; ++c, ++lane) add(c, lane);
 }
 
+// A grid row enlarged stride times along the row: output x samples the row
+// at (x + 0.5) / stride - 0.5, as cv::resize's INTER_LINEAR places its
+// pixels. Output x = j stride + k is (1 - a[k]) row[j + o[k]] +
+// a[k] row[j + o[k] + 1] for the phase's offset o[k] (-1 or 0) and weight
+// a[k]; row[-1] and row[grid_cols] repeat the ends, which clamps as
+// cv::resize does. Stride is an int or, for the default, a compile-time
+// constant: the loop over phases then unrolls and the loop over blocks
+// vectorises.
+template <class Stride>
+RISAS_VECTOR_CLONES
+void enlargeRow(const float* row, int grid_cols, Stride stride, const int* o, const float* a, float* __restrict out) {
+  for (int j = 0; j < grid_cols; ++j) {
+    for (int k = 0; k < stride; ++k) {
+      out[j * stride + k] = (1.0f - a[k]) * row[j + o[k]] + a[k] * row[j + o[k] + 1];
+    }
+  }
+}
+
+// out = (1 - b) above + b below: a row between two enlarged rows.
+RISAS_VECTOR_CLONES
+void blendRows(const float* above, const float* below, float b, int cols, float* __restrict out) {
+  for (int x = 0; x < cols; ++x) out[x] = (1.0f - b) * above[x] + b * below[x];
+}
+
+// grid enlarged stride times, bilinearly, to `size` (at most stride - 1
+// pixels short of whole blocks: partial blocks at the right and bottom),
+// along the rows first and then down the columns, as cv::resize does.
+void enlargeBilinear(const cv::Mat& grid, int stride, cv::Size size, cv::Mat& out) {
+  const int grid_rows = grid.rows, grid_cols = grid.cols, full_cols = grid_cols * stride;
+  CV_Assert(grid.type() == CV_32FC1 && size.width <= full_cols && size.height <= grid_rows * stride);
+  // Each phase k of a block: the grid sample (k + 0.5) / stride - 0.5 lies
+  // between offsets o[k] and o[k] + 1 from the block, at weight a[k].
+  std::vector<int> o(static_cast<size_t>(stride));
+  std::vector<float> a(static_cast<size_t>(stride));
+  for (int k = 0; k < stride; ++k) {
+    const float f = (static_cast<float>(k) + 0.5f) / static_cast<float>(stride) - 0.5f;
+    o[static_cast<size_t>(k)] = f < 0.0f ? -1 : 0;
+    a[static_cast<size_t>(k)] = f - static_cast<float>(o[static_cast<size_t>(k)]);
+  }
+  // The grid rows enlarged along the row, per thread and reused.
+  thread_local cv::Mat along;
+  thread_local std::vector<float> padded;
+  along.create(grid_rows, full_cols, CV_32FC1);
+  padded.resize(static_cast<size_t>(grid_cols) + 2);
+  withDefault<GeometryParams::kDefaultNormalStride>(stride, [&](auto fixed_stride) {
+    for (int i = 0; i < grid_rows; ++i) {
+      const float* row = grid.ptr<float>(i);
+      padded.front() = row[0];
+      std::copy(row, row + grid_cols, padded.begin() + 1);
+      padded.back() = row[grid_cols - 1];
+      enlargeRow(padded.data() + 1, grid_cols, fixed_stride, o.data(), a.data(), along.ptr<float>(i));
+    }
+  });
+  out.create(size, CV_32FC1);
+  for (int y = 0; y < size.height; ++y) {
+    const int k = y % stride, i = y / stride + o[static_cast<size_t>(k)];
+    const float* above = along.ptr<float>(std::clamp(i, 0, grid_rows - 1));
+    const float* below = along.ptr<float>(std::clamp(i + 1, 0, grid_rows - 1));
+    blendRows(above, below, a[static_cast<size_t>(k)], size.width, out.ptr<float>(y));
+  }
+}
+
 }  // namespace
 
 cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) { return labelsOf(normal, SectorBoundaries(n_s)); }
@@ -121,7 +184,7 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
   // bilinearly: the same image at a fraction of the filtering.
   const int stride = geometry.normal_stride;
   // Per-thread buffers, reused from frame to frame (see normals.cpp).
-  thread_local cv::Mat p, weight, full;
+  thread_local cv::Mat p, weight, p_blurred, weight_blurred;
   p.create(normals.size(), CV_32FC1);
   weight.create(normals.size(), CV_32FC1);
   for (int r = 0; r < normals.rows; ++r) {
@@ -136,25 +199,24 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
       wr[c] = has ? 1.0f : 0.0f;
     }
   }
+  const cv::Mat* smoothed_p = &p;
+  const cv::Mat* smoothed_weight = &weight;
   if (sigma > 0.0) {
-    cv::GaussianBlur(p, p, cv::Size(), sigma / stride, sigma / stride, cv::BORDER_REPLICATE);
-    cv::GaussianBlur(weight, weight, cv::Size(), sigma / stride, sigma / stride, cv::BORDER_REPLICATE);
+    const std::vector<float> half = gaussianHalfKernel(sigma / stride);
+    blurReplicated(p, half, p_blurred);
+    blurReplicated(weight, half, weight_blurred);
+    smoothed_p = &p_blurred, smoothed_weight = &weight_blurred;
   }
   // Far inside large holes the weight vanishes; those pixels have no
   // keypoints and no neighbour with one within the Harris window, so 0 is as
   // good as any value there.
   for (int r = 0; r < p.rows; ++r) {
-    float* pr = p.ptr<float>(r);
-    const float* wr = weight.ptr<float>(r);
-    for (int c = 0; c < p.cols; ++c) pr[c] = wr[c] > 1e-3f ? pr[c] / wr[c] : 0.0f;
+    const float* pr = smoothed_p->ptr<float>(r);
+    const float* wr = smoothed_weight->ptr<float>(r);
+    float* out = p.ptr<float>(r);
+    for (int c = 0; c < p.cols; ++c) out[c] = wr[c] > 1e-3f ? pr[c] / wr[c] : 0.0f;
   }
-  const cv::Size size = geometry.size();
-  if (p.cols * stride == size.width && p.rows * stride == size.height) {
-    cv::resize(p, P, size, 0, 0, cv::INTER_LINEAR);
-  } else {  // partial blocks: enlarge to whole blocks, then crop
-    cv::resize(p, full, cv::Size(p.cols * stride, p.rows * stride), 0, 0, cv::INTER_LINEAR);
-    full(cv::Rect(cv::Point(0, 0), size)).copyTo(P);
-  }
+  enlargeBilinear(p, stride, geometry.size(), P);
 }
 
 }  // namespace risas

@@ -1,0 +1,36 @@
+// Internal to the core: the Gaussian filters of the detector (the grey blur,
+// eq. 1's window w) and of the dot-product image, all cut at 3 sigma.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace risas {
+
+// The kernel's size cut at 3 sigma, as OpenCV itself does for 8-bit images
+// (its float default, 4 sigma, adds taps of < 0.3 % of the weight).
+cv::Size gaussianSize(double sigma);
+
+// The kernel as its centre weight and the weights of the offsets 1 .. radius
+// (it is symmetric): OpenCV's float kernel, cut at 3 sigma.
+std::vector<float> gaussianHalfKernel(double sigma);
+
+// The radius of the defaults, which have compiled loops (withDefault):
+// window_sigma 1.5, and dp_sigma 3 on the normals' default stride 2 (1.5 on
+// their grid).
+constexpr int kDefaultGaussianRadius = 5;
+
+// The symmetric filter: out[u] = half[0] taps[radius][u] + the sum over
+// t = 1 .. radius of half[t] (taps[radius - t][u] + taps[radius + t][u]).
+// Along a row, taps[i] is the row shifted by i - radius; down the columns,
+// the row at that offset. Radius is an int or kDefaultGaussianRadius as a
+// compile-time constant (std::integral_constant, from withDefault).
+template <class Radius>
+void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols, float* out);
+
+// dst = src (CV_32FC1) filtered with `half` along the rows and down the
+// columns, the border replicated (cv::BORDER_REPLICATE). dst must not be src.
+void blurReplicated(const cv::Mat& src, const std::vector<float>& half, cv::Mat& dst);
+
+}  // namespace risas
