@@ -320,8 +320,9 @@ cv::Mat referenceResponse(const RgbdFrame& frame, const FrameGeometry& g, const 
 }
 
 TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
-  // The default window (its own compiled path) and two others, one of them
-  // without the grey blur, on a frame whose width is no multiple of four.
+  // The default window and grey blur (their own compiled paths) and two
+  // others, one without the grey blur, on a frame whose width is no multiple
+  // of four.
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   const cv::Rect crop(163, 125, 301, 203);
   const Intrinsics& K = frame.intrinsics();
@@ -332,6 +333,7 @@ TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
     DetectorParams params;
     params.window_sigma = window_sigma;
     if (window_sigma == 0.5) params.gray_sigma = 0.0;
+    if (window_sigma == 2.0) params.gray_sigma = 2.0;
     const cv::Mat expected = referenceResponse(small, g, params);
     double largest = 0.0;
     cv::minMaxLoc(cv::abs(expected), nullptr, &largest);

@@ -24,7 +24,7 @@ namespace {
 // reused from frame to frame: a VGA frame needs about 20 MB of them, which
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
-  cv::Mat I, P, R;
+  cv::Mat I_along, I, P, R;  // I_along: the grey rows blurred along the row
 };
 
 ResponseBuffers& buffers() {
@@ -151,16 +151,14 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   const float k = static_cast<float>(params_.harris_k);
   const double gray_sigma = params_.gray_sigma, window_sigma = params_.window_sigma;
   const cv::Size size = frame.size();
-  for (cv::Mat* image : {&b.I, &R}) image->create(size, CV_32FC1);
+  R.create(size, CV_32FC1);
 
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
   dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
   // I: the grey image blurred with gray_sigma, in float, filtered straight
-  // from the 8-bit image (gray_sigma 0: the kernel is [1]).
-  const cv::Mat gray_kernel = cv::getGaussianKernel(gaussianSize(gray_sigma).width, gray_sigma, CV_32F);
-  inStripes(size.height, [&](const cv::Range& rows) {
-    cv::sepFilter2D(frame.gray().rowRange(rows), b.I.rowRange(rows), CV_32F, gray_kernel, gray_kernel);
-  });
+  // from the 8-bit image (gray_sigma 0: the kernel is [1]), its border
+  // reflected as cv::GaussianBlur's.
+  gaussianBlur(frame.gray(), gaussianHalfKernel(gray_sigma), cv::BORDER_REFLECT_101, b.I_along, b.I);
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
   // expansion is the structure tensor M = tau M_I + (1 - tau) M_P; then the
   // window w (cv::GaussianBlur's kernel and reflected border), then Harris.
@@ -170,7 +168,7 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   const std::vector<float> half = gaussianHalfKernel(window_sigma);
   const int window_radius = static_cast<int>(half.size()) - 1, cols = size.width;
   std::vector<float> row_max(static_cast<size_t>(size.height));
-  withDefault<kDefaultGaussianRadius>(window_radius, [&](auto radius) {
+  withDefault<kDefaultWindowRadius>(window_radius, [&](auto radius) {
     inStripes(size.height, [&](const cv::Range& rows) {
       thread_local WindowRows w;
       w.reset(cols, radius);

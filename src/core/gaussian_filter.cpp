@@ -3,7 +3,6 @@
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
-#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -22,60 +21,80 @@ std::vector<float> gaussianHalfKernel(double sigma) {
   return std::vector<float>(kernel.ptr<float>(radius), kernel.ptr<float>(radius) + radius + 1);
 }
 
+// out[u] += weight (before[u] + after[u]): one pair of taps over a row. Its
+// own function: inlined, GCC jammed two taps into one loop and left it
+// scalar.
+RISAS_VECTOR_CLONES
+void addTaps(const float* before, const float* after, float weight, int cols, float* __restrict out) {
+  for (int u = 0; u < cols; ++u) out[u] += weight * (before[u] + after[u]);
+}
+
 // With the default radius a compile-time constant the compiler unrolls the
-// taps and vectorises the loop as it stands, sixteen outputs per AVX-512
-// register; with a radius known only at run time it would not vectorise it
-// at all, so that one is written in four-wide intrinsics, with a scalar tail
-// that adds in the lanes' order.
+// taps and vectorises the loop over the outputs as it stands; with a radius
+// known only at run time it would not, so that one adds a pair of taps at a
+// time over the row, in the same order.
 template <class Radius>
 RISAS_VECTOR_CLONES
 void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols, float* __restrict out) {
-  int u = 0;
   if constexpr (std::is_integral_v<Radius>) {
-    for (; u + 4 <= cols; u += 4) {
-      cv::v_float32x4 sum = cv::v_setall_f32(half[0]) * cv::v_load(taps[radius] + u);
-      for (int t = 1; t <= radius; ++t) {
-        sum += cv::v_setall_f32(half[t]) * (cv::v_load(taps[radius - t] + u) + cv::v_load(taps[radius + t] + u));
-      }
-      cv::v_store(out + u, sum);
+    const float* centre = taps[radius];
+    for (int u = 0; u < cols; ++u) out[u] = half[0] * centre[u];
+    for (int t = 1; t <= radius; ++t) addTaps(taps[radius - t], taps[radius + t], half[t], cols, out);
+  } else {
+    for (int u = 0; u < cols; ++u) {
+      float sum = half[0] * taps[radius][u];
+      for (int t = 1; t <= radius; ++t) sum += half[t] * (taps[radius - t][u] + taps[radius + t][u]);
+      out[u] = sum;
     }
-  }
-  for (; u < cols; ++u) {
-    float sum = half[0] * taps[radius][u];
-    for (int t = 1; t <= radius; ++t) sum += half[t] * (taps[radius - t][u] + taps[radius + t][u]);
-    out[u] = sum;
   }
 }
 
 template void symmetricWindow(const float* const*, const float*, int, int, float*);
-template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultGaussianRadius>,
+template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultWindowRadius>,
+                              int, float*);
+template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultGrayRadius>,
                               int, float*);
 
-void blurReplicated(const cv::Mat& src, const std::vector<float>& half, cv::Mat& dst) {
-  CV_Assert(src.type() == CV_32FC1 && !half.empty() && dst.data != src.data);
-  const int radius = static_cast<int>(half.size()) - 1, rows = src.rows, cols = src.cols;
-  // Per thread, reused from frame to frame.
-  thread_local cv::Mat along;  // filtered along the rows
-  thread_local std::vector<float> padded;
+void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& along, cv::Mat& dst) {
+  CV_Assert((src.type() == CV_8UC1 || src.type() == CV_32FC1) && !src.empty() && !half.empty());
+  CV_Assert(dst.data != src.data && (border == cv::BORDER_REPLICATE || border == cv::BORDER_REFLECT_101));
+  const int radius = static_cast<int>(half.size()) - 1, rows = src.rows, cols = src.cols, span = 2 * radius + 1;
   along.create(src.size(), CV_32FC1);
   dst.create(src.size(), CV_32FC1);
-  padded.resize(static_cast<size_t>(cols + 2 * radius));
-  std::vector<const float*> taps(static_cast<size_t>(2 * radius + 1));
-  withDefault<kDefaultGaussianRadius>(radius, [&](auto fixed_radius) {
-    for (int v = 0; v < rows; ++v) {
-      const float* row = src.ptr<float>(v);
-      std::fill_n(padded.begin(), radius, row[0]);
-      std::copy(row, row + cols, padded.begin() + radius);
-      std::fill_n(padded.begin() + radius + cols, radius, row[cols - 1]);
-      for (int t = 0; t <= 2 * radius; ++t) taps[static_cast<size_t>(t)] = padded.data() + t;
-      symmetricWindow(taps.data(), half.data(), fixed_radius, cols, along.ptr<float>(v));
-    }
-    for (int v = 0; v < rows; ++v) {
-      for (int t = 0; t <= 2 * radius; ++t) {
-        taps[static_cast<size_t>(t)] = along.ptr<float>(std::clamp(v + t - radius, 0, rows - 1));
+  withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(radius, [&](auto fixed_radius) {
+    // Along the rows: each row in float, extended by radius columns either
+    // side, then filtered.
+    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
+      thread_local std::vector<float> padded;
+      padded.resize(static_cast<size_t>(cols + 2 * radius));
+      std::vector<const float*> taps(static_cast<size_t>(span));
+      for (int t = 0; t < span; ++t) taps[static_cast<size_t>(t)] = padded.data() + t;
+      for (int v = range.start; v < range.end; ++v) {
+        float* row = padded.data() + radius;
+        if (src.depth() == CV_8U) {
+          const uchar* in = src.ptr<uchar>(v);
+          std::copy(in, in + cols, row);
+        } else {
+          const float* in = src.ptr<float>(v);
+          std::copy(in, in + cols, row);
+        }
+        for (int t = 1; t <= radius; ++t) {
+          row[-t] = row[cv::borderInterpolate(-t, cols, border)];
+          row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, border)];
+        }
+        symmetricWindow(taps.data(), half.data(), fixed_radius, cols, along.ptr<float>(v));
       }
-      symmetricWindow(taps.data(), half.data(), fixed_radius, cols, dst.ptr<float>(v));
-    }
+    });
+    // Down the columns: the rows at the taps' offsets, extrapolated alike.
+    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
+      std::vector<const float*> taps(static_cast<size_t>(span));
+      for (int v = range.start; v < range.end; ++v) {
+        for (int t = 0; t < span; ++t) {
+          taps[static_cast<size_t>(t)] = along.ptr<float>(cv::borderInterpolate(v + t - radius, rows, border));
+        }
+        symmetricWindow(taps.data(), half.data(), fixed_radius, cols, dst.ptr<float>(v));
+      }
+    });
   });
 }
 

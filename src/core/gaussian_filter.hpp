@@ -16,21 +16,24 @@ cv::Size gaussianSize(double sigma);
 // (it is symmetric): OpenCV's float kernel, cut at 3 sigma.
 std::vector<float> gaussianHalfKernel(double sigma);
 
-// The radius of the defaults, which have compiled loops (withDefault):
+// The radii of the defaults, which have compiled loops (withDefault):
 // window_sigma 1.5, and dp_sigma 3 on the normals' default stride 2 (1.5 on
-// their grid).
-constexpr int kDefaultGaussianRadius = 5;
+// their grid), have radius 5; gray_sigma 1 has radius 3.
+constexpr int kDefaultWindowRadius = 5, kDefaultGrayRadius = 3;
 
 // The symmetric filter: out[u] = half[0] taps[radius][u] + the sum over
 // t = 1 .. radius of half[t] (taps[radius - t][u] + taps[radius + t][u]).
 // Along a row, taps[i] is the row shifted by i - radius; down the columns,
-// the row at that offset. Radius is an int or kDefaultGaussianRadius as a
+// the row at that offset. Radius is an int or one of the default radii as a
 // compile-time constant (std::integral_constant, from withDefault).
 template <class Radius>
 void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols, float* out);
 
-// dst = src (CV_32FC1) filtered with `half` along the rows and down the
-// columns, the border replicated (cv::BORDER_REPLICATE). dst must not be src.
-void blurReplicated(const cv::Mat& src, const std::vector<float>& half, cv::Mat& dst);
+// dst (CV_32FC1) = src (CV_8UC1 or CV_32FC1) filtered with `half` along the
+// rows and down the columns, the border extrapolated by `border`
+// (cv::BORDER_REPLICATE or cv::BORDER_REFLECT_101, as cv::borderInterpolate).
+// `along` receives the rows filtered along; dst must not be src. Rows run in
+// parallel; the result does not depend on the number of threads.
+void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& along, cv::Mat& dst);
 
 }  // namespace risas

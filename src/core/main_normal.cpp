@@ -184,7 +184,7 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
   // bilinearly: the same image at a fraction of the filtering.
   const int stride = geometry.normal_stride;
   // Per-thread buffers, reused from frame to frame (see normals.cpp).
-  thread_local cv::Mat p, weight, p_blurred, weight_blurred;
+  thread_local cv::Mat p, weight, p_blurred, weight_blurred, along;
   p.create(normals.size(), CV_32FC1);
   weight.create(normals.size(), CV_32FC1);
   for (int r = 0; r < normals.rows; ++r) {
@@ -203,8 +203,8 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
   const cv::Mat* smoothed_weight = &weight;
   if (sigma > 0.0) {
     const std::vector<float> half = gaussianHalfKernel(sigma / stride);
-    blurReplicated(p, half, p_blurred);
-    blurReplicated(weight, half, weight_blurred);
+    gaussianBlur(p, half, cv::BORDER_REPLICATE, along, p_blurred);
+    gaussianBlur(weight, half, cv::BORDER_REPLICATE, along, weight_blurred);
     smoothed_p = &p_blurred, smoothed_weight = &weight_blurred;
   }
   // Far inside large holes the weight vanishes; those pixels have no

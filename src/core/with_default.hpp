@@ -2,18 +2,23 @@
 #pragma once
 
 #include <type_traits>
+#include <utility>
 
 namespace risas {
 
 // Calls f(value), with value as a compile-time constant
-// (std::integral_constant<int, kDefault>) when it is kDefault and as an int
-// otherwise. One loop body serves both: for the default the compiler turns
+// (std::integral_constant<int, k>) when it is one of the defaults k and as an
+// int otherwise. One loop body serves all: for a default the compiler turns
 // divisions by the value into shifts, steps of it into fixed-step loads and
 // loops over it into straight vector code.
-template <int kDefault, class F>
+template <int kDefault, int... kOthers, class F>
 decltype(auto) withDefault(int value, F&& f) {
   if (value == kDefault) return f(std::integral_constant<int, kDefault>());
-  return f(value);
+  if constexpr (sizeof...(kOthers) > 0) {
+    return withDefault<kOthers...>(value, std::forward<F>(f));
+  } else {
+    return f(value);
+  }
 }
 
 }  // namespace risas
