@@ -24,9 +24,13 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s);
 // that tau weighs two channels of the same range in eq. 1. Pixels without a
 // normal take a Gaussian-weighted mean of their neighbours' P (normalised
 // convolution with sigma, which also smooths P) so depth holes create no
-// artificial gradients. P is formed on the normals' grid and enlarged to the
-// frame (it is smooth). CV_32FC1 in P, whose buffer is reused when it
-// already has the size and type.
+// artificial gradients. P is smooth, so it is formed on the normals' grid,
+// one value per block, filtered with sigma / normal_stride (the kernel cut
+// at 3 sigma, the border replicated): dotProductGrid, CV_32FC1 of the
+// normals' size. dotProductImage enlarges it to the frame bilinearly (as
+// cv::resize's INTER_LINEAR), CV_32FC1 in P. The outputs' buffers are
+// reused when they already have the size and type.
+void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& grid);
 void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& P);
 
 }  // namespace risas

@@ -3,6 +3,7 @@
 #include "risas/errors.hpp"
 #include "risas/main_normal.hpp"
 
+#include "enlarged_rows.hpp"
 #include "gaussian_filter.hpp"
 #include "marked_columns.hpp"
 #include "vector_clones.hpp"
@@ -24,7 +25,7 @@ namespace {
 // reused from frame to frame: a VGA frame needs about 20 MB of them, which
 // allocated afresh per frame cost more in page faults than the filtering.
 struct ResponseBuffers {
-  cv::Mat I_along, I, P, R;  // I_along: the grey rows blurred along the row
+  cv::Mat P_grid, R;
 };
 
 ResponseBuffers& buffers() {
@@ -43,16 +44,15 @@ void inStripes(int rows, Stage&& stage) {
                     std::max(1, cv::getNumThreads()));
 }
 
-// Row v of the Sobel derivatives scaled by 1/8, the central differences of a
-// [1 2 1]-smoothed image (grey levels per pixel for both channels alike),
-// replicated at the edges. Written out, unlike cv::Sobel, so the tensor
-// entries are formed from the rows without four intermediate images.
+// A row of the Sobel derivatives scaled by 1/8, the central differences of
+// a [1 2 1]-smoothed image (grey levels per pixel for both channels alike),
+// from the image's rows above, at and below it (the row itself at the
+// image's edges), replicated at the row's ends. Written out, unlike
+// cv::Sobel, so the tensor entries are formed from the rows without four
+// intermediate images.
 RISAS_VECTOR_CLONES
-void sobelRow(const cv::Mat& image, int v, float* __restrict dx, float* __restrict dy) {
-  const int cols = image.cols;
-  const float* __restrict a0 = image.ptr<float>(std::max(v - 1, 0));
-  const float* __restrict a1 = image.ptr<float>(v);
-  const float* __restrict a2 = image.ptr<float>(std::min(v + 1, image.rows - 1));
+void sobelRow(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2, int cols,
+              float* __restrict dx, float* __restrict dy) {
   const auto at = [&](int u) {
     const int l = std::max(u - 1, 0), r = std::min(u + 1, cols - 1);
     dx[u] = 0.125f * ((a0[r] - a0[l]) + 2.0f * (a1[r] - a1[l]) + (a2[r] - a2[l]));
@@ -154,11 +154,14 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   R.create(size, CV_32FC1);
 
   const cv::Vec3f n_main = computeMainNormal(geometry.normals, params_.n_s);
-  dotProductImage(geometry, n_main, params_.dp_sigma, b.P);
+  // P on the normals' grid, enlarged row by row as the pass below reaches
+  // the rows (EnlargedRows), each thread its own.
+  dotProductGrid(geometry, n_main, params_.dp_sigma, b.P_grid);
   // I: the grey image blurred with gray_sigma, in float, filtered straight
   // from the 8-bit image (gray_sigma 0: the kernel is [1]), its border
-  // reflected as cv::GaussianBlur's.
-  gaussianBlur(frame.gray(), gaussianHalfKernel(gray_sigma), cv::BORDER_REFLECT_101, b.I_along, b.I);
+  // reflected as cv::GaussianBlur's. Its rows are made as the pass below
+  // reaches them (BlurredRows), each thread its own.
+  const std::vector<float> gray_half = gaussianHalfKernel(gray_sigma);
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
   // expansion is the structure tensor M = tau M_I + (1 - tau) M_P; then the
   // window w (cv::GaussianBlur's kernel and reflected border), then Harris.
@@ -172,13 +175,18 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
     inStripes(size.height, [&](const cv::Range& rows) {
       thread_local WindowRows w;
       w.reset(cols, radius);
+      thread_local BlurredRows I;
+      I.reset(frame.gray(), gray_half, cv::BORDER_REFLECT_101);
+      thread_local EnlargedRows P;
+      P.reset(b.P_grid, geometry.normal_stride, size);
       std::vector<const float*> shifted(static_cast<size_t>(w.span)), column(static_cast<size_t>(w.span));
       // Tensor row r (reflected into the image), filtered along the row,
       // into the ring.
       const auto addRow = [&](int r) {
         const int v = cv::borderInterpolate(r, size.height, cv::BORDER_REFLECT_101);
-        sobelRow(b.I, v, w.gradient(0), w.gradient(1));
-        sobelRow(b.P, v, w.gradient(2), w.gradient(3));
+        const int above = std::max(v - 1, 0), below = std::min(v + 1, size.height - 1);
+        sobelRow(I.row(above), I.row(v), I.row(below), cols, w.gradient(0), w.gradient(1));
+        sobelRow(P.row(above), P.row(v), P.row(below), cols, w.gradient(2), w.gradient(3));
         tensorRow(w.gradient(0), w.gradient(1), w.gradient(2), w.gradient(3), tau, cols, w.tensor(0) + radius,
                   w.tensor(1) + radius, w.tensor(2) + radius);
         for (int e = 0; e < WindowRows::kTensor; ++e) {

@@ -55,47 +55,61 @@ template void symmetricWindow(const float* const*, const float*, std::integral_c
 template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultGrayRadius>,
                               int, float*);
 
-void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& along, cv::Mat& dst) {
+void BlurredRows::reset(const cv::Mat& src, const std::vector<float>& half, int border) {
   CV_Assert((src.type() == CV_8UC1 || src.type() == CV_32FC1) && !src.empty() && !half.empty());
-  CV_Assert(dst.data != src.data && (border == cv::BORDER_REPLICATE || border == cv::BORDER_REFLECT_101));
-  const int radius = static_cast<int>(half.size()) - 1, rows = src.rows, cols = src.cols, span = 2 * radius + 1;
-  along.create(src.size(), CV_32FC1);
-  dst.create(src.size(), CV_32FC1);
-  withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(radius, [&](auto fixed_radius) {
-    // Along the rows: each row in float, extended by radius columns either
-    // side, then filtered.
-    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
-      thread_local std::vector<float> padded;
-      padded.resize(static_cast<size_t>(cols + 2 * radius));
-      std::vector<const float*> taps(static_cast<size_t>(span));
-      for (int t = 0; t < span; ++t) taps[static_cast<size_t>(t)] = padded.data() + t;
-      for (int v = range.start; v < range.end; ++v) {
-        float* row = padded.data() + radius;
-        if (src.depth() == CV_8U) {
-          const uchar* in = src.ptr<uchar>(v);
-          std::copy(in, in + cols, row);
-        } else {
-          const float* in = src.ptr<float>(v);
-          std::copy(in, in + cols, row);
-        }
-        for (int t = 1; t <= radius; ++t) {
-          row[-t] = row[cv::borderInterpolate(-t, cols, border)];
-          row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, border)];
-        }
-        symmetricWindow(taps.data(), half.data(), fixed_radius, cols, along.ptr<float>(v));
-      }
-    });
+  CV_Assert(border == cv::BORDER_REPLICATE || border == cv::BORDER_REFLECT_101);
+  src_ = src, half_ = half, border_ = border;
+  const int radius = static_cast<int>(half.size()) - 1, span = 2 * radius + 1;
+  padded_.resize(static_cast<size_t>(src.cols + 2 * radius));
+  along_taps_.resize(static_cast<size_t>(span));
+  for (int t = 0; t < span; ++t) along_taps_[static_cast<size_t>(t)] = padded_.data() + t;
+  column_taps_.resize(static_cast<size_t>(span));
+  along_.reset(src.cols, span);
+  finished_.reset(src.cols, 3);
+}
+
+// Row v filtered along: in float, extended by radius columns either side.
+void BlurredRows::filterAlong(int v, float* out) {
+  const int radius = static_cast<int>(half_.size()) - 1, cols = src_.cols;
+  float* row = padded_.data() + radius;
+  if (src_.depth() == CV_8U) {
+    const uchar* in = src_.ptr<uchar>(v);
+    std::copy(in, in + cols, row);
+  } else {
+    const float* in = src_.ptr<float>(v);
+    std::copy(in, in + cols, row);
+  }
+  for (int t = 1; t <= radius; ++t) {
+    row[-t] = row[cv::borderInterpolate(-t, cols, border_)];
+    row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, border_)];
+  }
+  withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
+      radius, [&](auto fixed_radius) { symmetricWindow(along_taps_.data(), half_.data(), fixed_radius, cols, out); });
+}
+
+const float* BlurredRows::row(int v) {
+  return finished_.row(v, [&](int, float* out) {
     // Down the columns: the rows at the taps' offsets, extrapolated alike.
-    cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& range) {
-      std::vector<const float*> taps(static_cast<size_t>(span));
-      for (int v = range.start; v < range.end; ++v) {
-        for (int t = 0; t < span; ++t) {
-          taps[static_cast<size_t>(t)] = along.ptr<float>(cv::borderInterpolate(v + t - radius, rows, border));
-        }
-        symmetricWindow(taps.data(), half.data(), fixed_radius, cols, dst.ptr<float>(v));
-      }
-    });
+    // They are span consecutive rows (reflected or replicated at the
+    // edges), all held in along_'s span slots at once.
+    const int radius = static_cast<int>(half_.size()) - 1, rows = src_.rows;
+    for (int t = 0; t <= 2 * radius; ++t) {
+      const int source = cv::borderInterpolate(v + t - radius, rows, border_);
+      column_taps_[static_cast<size_t>(t)] = along_.row(source, [&](int i, float* o) { filterAlong(i, o); });
+    }
+    withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
+        radius, [&](auto fixed_radius) {
+          symmetricWindow(column_taps_.data(), half_.data(), fixed_radius, src_.cols, out);
+        });
   });
+}
+
+void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& dst) {
+  CV_Assert(dst.data != src.data);
+  thread_local BlurredRows rows;
+  rows.reset(src, half, border);
+  dst.create(src.size(), CV_32FC1);
+  for (int v = 0; v < src.rows; ++v) std::copy_n(rows.row(v), src.cols, dst.ptr<float>(v));
 }
 
 }  // namespace risas

@@ -2,6 +2,8 @@
 // eq. 1's window w) and of the dot-product image, all cut at 3 sigma.
 #pragma once
 
+#include "row_cache.hpp"
+
 #include <opencv2/core.hpp>
 
 #include <vector>
@@ -29,11 +31,29 @@ constexpr int kDefaultWindowRadius = 5, kDefaultGrayRadius = 3;
 template <class Radius>
 void symmetricWindow(const float* const* taps, const float* half, Radius radius, int cols, float* out);
 
-// dst (CV_32FC1) = src (CV_8UC1 or CV_32FC1) filtered with `half` along the
+// The rows of src (CV_8UC1 or CV_32FC1) filtered with `half` along the
 // rows and down the columns, the border extrapolated by `border`
-// (cv::BORDER_REPLICATE or cv::BORDER_REFLECT_101, as cv::borderInterpolate).
-// `along` receives the rows filtered along; dst must not be src. Rows run in
-// parallel; the result does not depend on the number of threads.
-void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& along, cv::Mat& dst);
+// (cv::BORDER_REPLICATE or cv::BORDER_REFLECT_101, as cv::borderInterpolate),
+// made one at a time on demand: a pass down the image reads them without a
+// blurred copy of the image. Rows filtered along are kept while the taps
+// down the columns reach them, finished rows while three neighbours are read.
+// One object per thread; reset per image.
+class BlurredRows {
+ public:
+  void reset(const cv::Mat& src, const std::vector<float>& half, int border);
+  const float* row(int v);  // v in [0, src.rows)
+
+ private:
+  void filterAlong(int v, float* out);
+  cv::Mat src_;
+  std::vector<float> half_, padded_;
+  std::vector<const float*> along_taps_, column_taps_;
+  int border_ = 0;
+  RowCache along_, finished_;
+};
+
+// dst (CV_32FC1) = the rows of BlurredRows, the whole image. dst must not be
+// src.
+void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& dst);
 
 }  // namespace risas

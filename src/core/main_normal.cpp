@@ -1,5 +1,6 @@
 #include "risas/main_normal.hpp"
 
+#include "enlarged_rows.hpp"
 #include "gaussian_filter.hpp"
 #include "vector_clones.hpp"
 #include "with_default.hpp"
@@ -73,68 +74,6 @@ void addModeRow(const float* __restrict xyz, const int* __restrict bin, int cols
   for (int lane = 0; c < cols; ++c, ++lane) add(c, lane);
 }
 
-// A grid row enlarged stride times along the row: output x samples the row
-// at (x + 0.5) / stride - 0.5, as cv::resize's INTER_LINEAR places its
-// pixels. Output x = j stride + k is (1 - a[k]) row[j + o[k]] +
-// a[k] row[j + o[k] + 1] for the phase's offset o[k] (-1 or 0) and weight
-// a[k]; row[-1] and row[grid_cols] repeat the ends, which clamps as
-// cv::resize does. Stride is an int or, for the default, a compile-time
-// constant: the loop over phases then unrolls and the loop over blocks
-// vectorises.
-template <class Stride>
-RISAS_VECTOR_CLONES
-void enlargeRow(const float* row, int grid_cols, Stride stride, const int* o, const float* a, float* __restrict out) {
-  for (int j = 0; j < grid_cols; ++j) {
-    for (int k = 0; k < stride; ++k) {
-      out[j * stride + k] = (1.0f - a[k]) * row[j + o[k]] + a[k] * row[j + o[k] + 1];
-    }
-  }
-}
-
-// out = (1 - b) above + b below: a row between two enlarged rows.
-RISAS_VECTOR_CLONES
-void blendRows(const float* above, const float* below, float b, int cols, float* __restrict out) {
-  for (int x = 0; x < cols; ++x) out[x] = (1.0f - b) * above[x] + b * below[x];
-}
-
-// grid enlarged stride times, bilinearly, to `size` (at most stride - 1
-// pixels short of whole blocks: partial blocks at the right and bottom),
-// along the rows first and then down the columns, as cv::resize does.
-void enlargeBilinear(const cv::Mat& grid, int stride, cv::Size size, cv::Mat& out) {
-  const int grid_rows = grid.rows, grid_cols = grid.cols, full_cols = grid_cols * stride;
-  CV_Assert(grid.type() == CV_32FC1 && size.width <= full_cols && size.height <= grid_rows * stride);
-  // Each phase k of a block: the grid sample (k + 0.5) / stride - 0.5 lies
-  // between offsets o[k] and o[k] + 1 from the block, at weight a[k].
-  std::vector<int> o(static_cast<size_t>(stride));
-  std::vector<float> a(static_cast<size_t>(stride));
-  for (int k = 0; k < stride; ++k) {
-    const float f = (static_cast<float>(k) + 0.5f) / static_cast<float>(stride) - 0.5f;
-    o[static_cast<size_t>(k)] = f < 0.0f ? -1 : 0;
-    a[static_cast<size_t>(k)] = f - static_cast<float>(o[static_cast<size_t>(k)]);
-  }
-  // The grid rows enlarged along the row, per thread and reused.
-  thread_local cv::Mat along;
-  thread_local std::vector<float> padded;
-  along.create(grid_rows, full_cols, CV_32FC1);
-  padded.resize(static_cast<size_t>(grid_cols) + 2);
-  withDefault<GeometryParams::kDefaultNormalStride>(stride, [&](auto fixed_stride) {
-    for (int i = 0; i < grid_rows; ++i) {
-      const float* row = grid.ptr<float>(i);
-      padded.front() = row[0];
-      std::copy(row, row + grid_cols, padded.begin() + 1);
-      padded.back() = row[grid_cols - 1];
-      enlargeRow(padded.data() + 1, grid_cols, fixed_stride, o.data(), a.data(), along.ptr<float>(i));
-    }
-  });
-  out.create(size, CV_32FC1);
-  for (int y = 0; y < size.height; ++y) {
-    const int k = y % stride, i = y / stride + o[static_cast<size_t>(k)];
-    const float* above = along.ptr<float>(std::clamp(i, 0, grid_rows - 1));
-    const float* below = along.ptr<float>(std::clamp(i + 1, 0, grid_rows - 1));
-    blendRows(above, below, a[static_cast<size_t>(k)], size.width, out.ptr<float>(y));
-  }
-}
-
 }  // namespace
 
 cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) { return labelsOf(normal, SectorBoundaries(n_s)); }
@@ -176,15 +115,12 @@ cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
   return cv::Vec3f(static_cast<float>(mean[0]), static_cast<float>(mean[1]), static_cast<float>(mean[2]));
 }
 
-void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& P) {
+void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& grid) {
   const cv::Mat& normals = geometry.normals;
   CV_Assert(normals.type() == CV_32FC3);
-  // P is smooth (sigma of a few pixels), so it is formed on the normals' own
-  // grid, one value per block, filtered with sigma / stride and enlarged
-  // bilinearly: the same image at a fraction of the filtering.
   const int stride = geometry.normal_stride;
   // Per-thread buffers, reused from frame to frame (see normals.cpp).
-  thread_local cv::Mat p, weight, p_blurred, weight_blurred, along;
+  thread_local cv::Mat p, weight, p_blurred, weight_blurred;
   p.create(normals.size(), CV_32FC1);
   weight.create(normals.size(), CV_32FC1);
   for (int r = 0; r < normals.rows; ++r) {
@@ -203,20 +139,29 @@ void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, dou
   const cv::Mat* smoothed_weight = &weight;
   if (sigma > 0.0) {
     const std::vector<float> half = gaussianHalfKernel(sigma / stride);
-    gaussianBlur(p, half, cv::BORDER_REPLICATE, along, p_blurred);
-    gaussianBlur(weight, half, cv::BORDER_REPLICATE, along, weight_blurred);
+    gaussianBlur(p, half, cv::BORDER_REPLICATE, p_blurred);
+    gaussianBlur(weight, half, cv::BORDER_REPLICATE, weight_blurred);
     smoothed_p = &p_blurred, smoothed_weight = &weight_blurred;
   }
   // Far inside large holes the weight vanishes; those pixels have no
   // keypoints and no neighbour with one within the Harris window, so 0 is as
   // good as any value there.
+  grid.create(p.size(), CV_32FC1);
   for (int r = 0; r < p.rows; ++r) {
     const float* pr = smoothed_p->ptr<float>(r);
     const float* wr = smoothed_weight->ptr<float>(r);
-    float* out = p.ptr<float>(r);
+    float* out = grid.ptr<float>(r);
     for (int c = 0; c < p.cols; ++c) out[c] = wr[c] > 1e-3f ? pr[c] / wr[c] : 0.0f;
   }
-  enlargeBilinear(p, stride, geometry.size(), P);
+}
+
+void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& P) {
+  thread_local cv::Mat grid;
+  thread_local EnlargedRows rows;
+  dotProductGrid(geometry, n_main, sigma, grid);
+  rows.reset(grid, geometry.normal_stride, geometry.size());
+  P.create(geometry.size(), CV_32FC1);
+  for (int y = 0; y < P.rows; ++y) std::copy_n(rows.row(y), P.cols, P.ptr<float>(y));
 }
 
 }  // namespace risas
