@@ -10,20 +10,19 @@
 #include "with_default.hpp"
 
 #include <opencv2/core/hal/intrin.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 namespace risas {
 namespace {
 
-// The images one frame's response passes through, one set per thread and
-// reused from frame to frame: a VGA frame needs about 20 MB of them, which
-// allocated afresh per frame cost more in page faults than the filtering.
+// The images one frame's response keeps whole, the dot-product grid and R,
+// one set per thread and reused from frame to frame: allocated afresh per
+// frame, images cost more in page faults than the filtering. (The grey and
+// dot-product images are made a few rows at a time, see computeResponse.)
 struct ResponseBuffers {
   cv::Mat P_grid, R;
 };

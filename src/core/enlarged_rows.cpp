@@ -36,7 +36,7 @@ void blendRows(const float* above, const float* below, float b, int cols, float*
 void EnlargedRows::reset(const cv::Mat& grid, int stride, cv::Size size) {
   CV_Assert(grid.type() == CV_32FC1 && !grid.empty() && stride >= 1);
   CV_Assert(size.width <= grid.cols * stride && size.height <= grid.rows * stride);
-  grid_ = grid, stride_ = stride, size_ = size;
+  grid_ = &grid, stride_ = stride, size_ = size;
   o_.resize(static_cast<size_t>(stride));
   a_.resize(static_cast<size_t>(stride));
   for (int k = 0; k < stride; ++k) {
@@ -50,18 +50,18 @@ void EnlargedRows::reset(const cv::Mat& grid, int stride, cv::Size size) {
 }
 
 void EnlargedRows::enlargeAlong(int i, float* out) {
-  const float* row = grid_.ptr<float>(i);
+  const float* row = grid_->ptr<float>(i);
   padded_.front() = row[0];
-  std::copy(row, row + grid_.cols, padded_.begin() + 1);
-  padded_.back() = row[grid_.cols - 1];
+  std::copy(row, row + grid_->cols, padded_.begin() + 1);
+  padded_.back() = row[grid_->cols - 1];
   withDefault<GeometryParams::kDefaultNormalStride>(stride_, [&](auto stride) {
-    enlargeRow(padded_.data() + 1, grid_.cols, stride, o_.data(), a_.data(), out);
+    enlargeRow(padded_.data() + 1, grid_->cols, stride, o_.data(), a_.data(), out);
   });
 }
 
 const float* EnlargedRows::row(int y) {
   return finished_.row(y, [&](int, float* out) {
-    const int k = y % stride_, i = y / stride_ + o_[static_cast<size_t>(k)], last = grid_.rows - 1;
+    const int k = y % stride_, i = y / stride_ + o_[static_cast<size_t>(k)], last = grid_->rows - 1;
     const auto along = [&](int row) { return along_.row(row, [&](int r, float* o) { enlargeAlong(r, o); }); };
     const float* above = along(std::clamp(i, 0, last));
     const float* below = along(std::clamp(i + 1, 0, last));

@@ -15,7 +15,8 @@ namespace risas {
 // image reads them without the enlarged image. Pixel (x, y) samples the grid
 // at ((x + 0.5) / stride - 0.5, (y + 0.5) / stride - 0.5), clamped to the
 // grid's edges, along the rows first and then down the columns, as
-// cv::resize's INTER_LINEAR does. One object per thread; reset per image.
+// cv::resize's INTER_LINEAR does. One object per thread; reset per image,
+// which must outlive the rows' use (it is not held).
 class EnlargedRows {
  public:
   void reset(const cv::Mat& grid, int stride, cv::Size size);
@@ -23,7 +24,7 @@ class EnlargedRows {
 
  private:
   void enlargeAlong(int i, float* out);
-  cv::Mat grid_;
+  const cv::Mat* grid_ = nullptr;
   int stride_ = 1;
   cv::Size size_;
   // Each phase k of a block: the grid sample (k + 0.5) / stride - 0.5 lies

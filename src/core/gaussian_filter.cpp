@@ -58,7 +58,7 @@ template void symmetricWindow(const float* const*, const float*, std::integral_c
 void BlurredRows::reset(const cv::Mat& src, const std::vector<float>& half, int border) {
   CV_Assert((src.type() == CV_8UC1 || src.type() == CV_32FC1) && !src.empty() && !half.empty());
   CV_Assert(border == cv::BORDER_REPLICATE || border == cv::BORDER_REFLECT_101);
-  src_ = src, half_ = half, border_ = border;
+  src_ = &src, half_ = half, border_ = border;
   const int radius = static_cast<int>(half.size()) - 1, span = 2 * radius + 1;
   padded_.resize(static_cast<size_t>(src.cols + 2 * radius));
   along_taps_.resize(static_cast<size_t>(span));
@@ -70,13 +70,13 @@ void BlurredRows::reset(const cv::Mat& src, const std::vector<float>& half, int 
 
 // Row v filtered along: in float, extended by radius columns either side.
 void BlurredRows::filterAlong(int v, float* out) {
-  const int radius = static_cast<int>(half_.size()) - 1, cols = src_.cols;
+  const int radius = static_cast<int>(half_.size()) - 1, cols = src_->cols;
   float* row = padded_.data() + radius;
-  if (src_.depth() == CV_8U) {
-    const uchar* in = src_.ptr<uchar>(v);
+  if (src_->depth() == CV_8U) {
+    const uchar* in = src_->ptr<uchar>(v);
     std::copy(in, in + cols, row);
   } else {
-    const float* in = src_.ptr<float>(v);
+    const float* in = src_->ptr<float>(v);
     std::copy(in, in + cols, row);
   }
   for (int t = 1; t <= radius; ++t) {
@@ -92,14 +92,14 @@ const float* BlurredRows::row(int v) {
     // Down the columns: the rows at the taps' offsets, extrapolated alike.
     // They are span consecutive rows (reflected or replicated at the
     // edges), all held in along_'s span slots at once.
-    const int radius = static_cast<int>(half_.size()) - 1, rows = src_.rows;
+    const int radius = static_cast<int>(half_.size()) - 1, rows = src_->rows;
     for (int t = 0; t <= 2 * radius; ++t) {
       const int source = cv::borderInterpolate(v + t - radius, rows, border_);
       column_taps_[static_cast<size_t>(t)] = along_.row(source, [&](int i, float* o) { filterAlong(i, o); });
     }
     withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
         radius, [&](auto fixed_radius) {
-          symmetricWindow(column_taps_.data(), half_.data(), fixed_radius, src_.cols, out);
+          symmetricWindow(column_taps_.data(), half_.data(), fixed_radius, src_->cols, out);
         });
   });
 }

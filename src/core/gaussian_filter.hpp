@@ -37,7 +37,8 @@ void symmetricWindow(const float* const* taps, const float* half, Radius radius,
 // made one at a time on demand: a pass down the image reads them without a
 // blurred copy of the image. Rows filtered along are kept while the taps
 // down the columns reach them, finished rows while three neighbours are read.
-// One object per thread; reset per image.
+// One object per thread; reset per image, which must outlive the rows' use
+// (it is not held).
 class BlurredRows {
  public:
   void reset(const cv::Mat& src, const std::vector<float>& half, int border);
@@ -45,7 +46,7 @@ class BlurredRows {
 
  private:
   void filterAlong(int v, float* out);
-  cv::Mat src_;
+  const cv::Mat* src_ = nullptr;
   std::vector<float> half_, padded_;
   std::vector<const float*> along_taps_, column_taps_;
   int border_ = 0;

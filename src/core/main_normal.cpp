@@ -5,7 +5,6 @@
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
