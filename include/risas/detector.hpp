@@ -35,6 +35,9 @@ class Detector {
   float computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const;
 
   DetectorParams params_;
+  // The grey blur's and the window's Gaussian kernels (centre and one side),
+  // made once from the parameters.
+  std::vector<float> gray_half_, window_half_;
 };
 
 // Keeps the best `max_count` keypoints by response, spread over a

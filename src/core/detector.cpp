@@ -141,14 +141,17 @@ void candidateRow(const float* __restrict up, const float* __restrict row, const
 
 }  // namespace
 
-Detector::Detector(const DetectorParams& params) : params_(params) { params_.validate(); }
+Detector::Detector(const DetectorParams& params) : params_(params) {
+  params_.validate();
+  gray_half_ = gaussianHalfKernel(params_.gray_sigma);
+  window_half_ = gaussianHalfKernel(params_.window_sigma);
+}
 
 float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geometry, cv::Mat& R) const {
   if (!geometry.fits(frame.size())) throw InputError("geometry does not belong to this frame");
   ResponseBuffers& b = buffers();
   const float tau = static_cast<float>(params_.tau);
   const float k = static_cast<float>(params_.harris_k);
-  const double gray_sigma = params_.gray_sigma, window_sigma = params_.window_sigma;
   const cv::Size size = frame.size();
   R.create(size, CV_32FC1);
 
@@ -160,14 +163,13 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
   // from the 8-bit image (gray_sigma 0: the kernel is [1]), its border
   // reflected as cv::GaussianBlur's. Its rows are made as the pass below
   // reaches them (BlurredRows), each thread its own.
-  const std::vector<float> gray_half = gaussianHalfKernel(gray_sigma);
   // Eq. 1: E(u,v) = sum w [tau dI^2 + (1 - tau) dP^2], whose second-order
   // expansion is the structure tensor M = tau M_I + (1 - tau) M_P; then the
   // window w (cv::GaussianBlur's kernel and reflected border), then Harris.
   // Row by row, with no tensor image: a tensor row is formed from the grey
   // and P rows, filtered along the row and kept in a ring while the column
   // filter's window reaches it.
-  const std::vector<float> half = gaussianHalfKernel(window_sigma);
+  const std::vector<float>& half = window_half_;
   const int window_radius = static_cast<int>(half.size()) - 1, cols = size.width;
   std::vector<float> row_max(static_cast<size_t>(size.height));
   withDefault<kDefaultWindowRadius>(window_radius, [&](auto radius) {
@@ -175,7 +177,7 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
       thread_local WindowRows w;
       w.reset(cols, radius);
       thread_local BlurredRows I;
-      I.reset(frame.gray(), gray_half, cv::BORDER_REFLECT_101);
+      I.reset(frame.gray(), gray_half_, cv::BORDER_REFLECT_101);
       thread_local EnlargedRows P;
       P.reset(b.P_grid, geometry.normal_stride, size);
       std::vector<const float*> shifted(static_cast<size_t>(w.span)), column(static_cast<size_t>(w.span));
