@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 namespace risas {
 namespace {
 
@@ -48,43 +50,59 @@ TEST(Ranking, RankGroupsAreEqualSizedAndTiesShareAGroup) {
 
 TEST(Neighbourhood, KeepsTheForegroundOfTheDiscAndItsMoments) {
   // A plane at 1 m with a step to 1.5 m at column 9 and a grey ramp rising
-  // to the right. The disc of radius 8.5 about (5, 20) is cut by the left
-  // edge; eq. 5 keeps its pixels left of the step (within t = 0.1 m of k_i,
-  // 8.5 px being 0.085 m at fx = 100), in rows of every length.
-  const int width = 40, height = 40, step_column = 9, u0 = 5, v0 = 20;
+  // to the right in steps of 3 columns (ties). Discs of radius 8.5 about
+  // (5, 20) and (34, 20) are cut by the left and the right edge; eq. 5 keeps
+  // their pixels on the keypoint's side of the step (within t = 0.2 m of
+  // k_i: 8.5 px at fx = 100 are 0.085 m at 1 m and 0.1275 m at 1.5 m), in
+  // rows of every length.
+  const int width = 40, height = 40, step_column = 9;
   const float radius = 8.5f;
   cv::Mat depth(height, width, CV_32FC1, cv::Scalar(1.0f)), gray(height, width, CV_8UC1);
   depth.colRange(step_column, width).setTo(1.5f);
-  for (int u = 0; u < width; ++u) gray.col(u).setTo(5 * u);
+  for (int u = 0; u < width; ++u) gray.col(u).setTo(5 * (u / 3));
   const Intrinsics K(100, 100, 20, 20);
   const RgbdFrame frame(gray, depth, K);
   const FrameGeometry g = computeGeometry(frame, GeometryParams());
-  const auto nb = selectNeighbourhood(frame, g, cv::Point2f(u0, v0), radius, 0.1);
-  ASSERT_TRUE(nb.has_value());
+  for (const cv::Point centre : {cv::Point(5, 20), cv::Point(34, 20)}) {
+    SCOPED_TRACE(centre);
+    const int u0 = centre.x, v0 = centre.y;
+    const auto nb = selectNeighbourhood(frame, g, cv::Point2f(u0, v0), radius, 0.2);
+    ASSERT_TRUE(nb.has_value());
 
-  // The same by hand: the disc's pixels (du^2 + dv^2 <= 72 < 8.5^2) in the
-  // image and left of the step, their points about k_i in double.
-  const cv::Vec3f k = g.point(v0, u0);
-  int kept = 0;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
-  for (int v = 0; v < height; ++v) {
-    for (int u = 0; u < step_column; ++u) {
-      if ((u - u0) * (u - u0) + (v - v0) * (v - v0) > 72) continue;
-      const cv::Vec3f p = g.point(v, u) - k;
-      const Eigen::Vector3d d(p[0], p[1], p[2]);
-      ++kept;
-      sum += d;
-      spread += d * d.transpose();
+    // The same by hand: the disc's pixels (du^2 + dv^2 <= 72 < 8.5^2) in the
+    // image and on the keypoint's side of the step, their points about k_i
+    // in double, and the middle rank of each pixel's grey level.
+    const cv::Vec3f k = g.point(v0, u0);
+    std::vector<cv::Point> pixels;
+    int count[256] = {};
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+    for (int v = 0; v < height; ++v) {
+      for (int u = 0; u < width; ++u) {
+        if ((u - u0) * (u - u0) + (v - v0) * (v - v0) > 72 || (u < step_column) != (u0 < step_column)) continue;
+        const cv::Vec3f p = g.point(v, u) - k;
+        const Eigen::Vector3d d(p[0], p[1], p[2]);
+        pixels.push_back({u, v});
+        ++count[gray.at<uchar>(v, u)];
+        sum += d;
+        spread += d * d.transpose();
+      }
     }
+    const int kept = static_cast<int>(pixels.size());
+    EXPECT_EQ(nb->kept, kept);
+    EXPECT_LT((nb->centroid - (Eigen::Vector3d(k[0], k[1], k[2]) + sum / kept)).norm(), 1e-6);
+    EXPECT_LT((nb->spread - spread / kept).norm(), 1e-7);
+    Eigen::Vector2d intensity_centroid = Eigen::Vector2d::Zero();
+    for (const cv::Point& q : pixels) {
+      const int level = gray.at<uchar>(q);
+      const double mid_rank = std::accumulate(count, count + level, 0) + 0.5 * (count[level] - 1);
+      intensity_centroid += (mid_rank - 0.5 * (kept - 1)) * Eigen::Vector2d(q.x - u0, q.y - v0);
+    }
+    EXPECT_EQ(nb->intensity_centroid, intensity_centroid);
+    // Brighter to the right, symmetric about row v0: it points along +u.
+    EXPECT_GT(nb->intensity_centroid.x(), 0.0);
+    EXPECT_EQ(nb->intensity_centroid.y(), 0.0);
   }
-  EXPECT_EQ(nb->kept, kept);
-  EXPECT_LT((nb->centroid - (Eigen::Vector3d(k[0], k[1], k[2]) + sum / kept)).norm(), 1e-6);
-  EXPECT_LT((nb->spread - spread / kept).norm(), 1e-7);
-  // Brighter to the right, symmetric about row v0: the rank centroid points
-  // along +u only.
-  EXPECT_GT(nb->intensity_centroid.x(), 0.0);
-  EXPECT_EQ(nb->intensity_centroid.y(), 0.0);
 }
 
 TEST(Descriptor, DimensionIsNPieTimesNBinTimesNVecPlusOne) {

@@ -7,13 +7,10 @@
 
 namespace risas {
 
-// The rank of every level from the histogram of the values: below[v] = how
-// many values lie strictly below v, so equal values share a rank.
-// histogram and below hold `levels` entries. O(levels), whatever the count.
-void ranksBelow(const int* histogram, int levels, int* below);
-
 // The rank group of every level from the histogram of the values:
-// table[v] = below[v] * groups / count, `groups` groups of equal size.
+// table[v] = below[v] * groups / count, `groups` groups of equal size, where
+// below[v] (the rank of v) counts the values strictly below v, so equal
+// values share a rank. O(levels), whatever the count.
 // histogram and table hold `levels` entries.
 void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table);
 

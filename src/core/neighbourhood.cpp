@@ -1,7 +1,5 @@
 #include "risas/neighbourhood.hpp"
 
-#include "risas/ranking.hpp"
-
 #include <Eigen/Eigenvalues>
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -85,14 +83,15 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // multiples of 2^32 do not reach them), the v sum what remains over 2^32:
   // exact while each sum fits 32 bits, as two separate sums needed too.
   int64_t offsets[256] = {};
-  // Pixels u .. u + 3 of row v0 + dv: their depths and x factors.
+  // Pixels u .. u + 3 of row v0 + dv, their depths and x factors, those of
+  // the lanes set in `in_disc`.
   const auto accumulate = [&](const float* depth, const float* x_factor, float y_factor, const uchar* gray, int u,
-                              int dv) {
+                              int dv, const v_float32x4& in_disc) {
     const int64_t row_offset = static_cast<int64_t>(dv) * (int64_t{1} << 32);
     const v_float32x4 z = cv::v_load(depth);
     v_float32x4 x = cv::v_load(x_factor) * z - kx, y = cv::v_setall_f32(y_factor) * z - ky, dz = z - kz;
     // eq. 5: background beyond t (a NaN point compares false and is dropped)
-    const v_float32x4 kept = (x * x + y * y + dz * dz) < t2;
+    const v_float32x4 kept = ((x * x + y * y + dz * dz) < t2) & in_disc;
     x = x & kept, y = y & kept, dz = dz & kept;
     sx += x, sy += y, sz += dz;
     sxx += x * x, sxy += x * y, sxz += x * dz, syy += y * y, syz += y * dz, szz += dz * dz;
@@ -104,6 +103,11 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
       offsets[g] += row_offset + (u + i - u0);
     }
   };
+  // first_lanes[n]: the first n of four lanes set.
+  const v_float32x4 all_lanes = cv::v_reinterpret_as_f32(cv::v_setall_s32(-1));
+  const v_float32x4 first_lanes[4] = {
+      cv::v_setzero_f32(), cv::v_reinterpret_as_f32(cv::v_int32x4(-1, 0, 0, 0)),
+      cv::v_reinterpret_as_f32(cv::v_int32x4(-1, -1, 0, 0)), cv::v_reinterpret_as_f32(cv::v_int32x4(-1, -1, -1, 0))};
   for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
     const float row_r2 = r2 - static_cast<float>(dv * dv);
     if (row_r2 < 0.0f) continue;
@@ -126,13 +130,20 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
       __builtin_prefetch(next_gray + u_end);
     }
     int u = u_begin;
-    for (; u + 4 <= u_end; u += 4) accumulate(depth + u, x_factor + u, y_factor, gray, u, dv);
-    if (u < u_end) {  // the last pixels, from copies padded with NaN depth, which is never kept
+    for (; u + 4 <= u_end; u += 4) accumulate(depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
+    if (u == u_end) continue;
+    // The last pixels: the four from u with the lanes past the disc masked
+    // off, read in place while they lie in the image (a copy of them cost a
+    // call to memcpy per row), else from copies padded with NaN depth.
+    const v_float32x4& last = first_lanes[u_end - u];
+    if (u + 4 <= size.width) {
+      accumulate(depth + u, x_factor + u, y_factor, gray, u, dv, last);
+    } else {
       float tail_depth[4], tail_x_factor[4] = {};
       std::fill_n(tail_depth, 4, std::numeric_limits<float>::quiet_NaN());
       std::copy(depth + u, depth + u_end, tail_depth);
       std::copy(x_factor + u, x_factor + u_end, tail_x_factor);
-      accumulate(tail_depth, tail_x_factor, y_factor, gray, u, dv);
+      accumulate(tail_depth, tail_x_factor, y_factor, gray, u, dv, last);
     }
   }
   for (int g = 0; g < 256; ++g) nb.kept += count[g];
@@ -150,18 +161,16 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // (a dark area that a cube transform flattened) then weighs as it would had
   // its pixels differed, which keeps the centroid's direction. The mean
   // middle rank is (n - 1) / 2. All pixels of one grey level share a rank,
-  // so the sum runs over levels.
-  int below[256];
-  ranksBelow(count, 256, below);
-  const double mean_rank = 0.5 * (nb.kept - 1);
-  nb.intensity_centroid.setZero();
-  for (int g = 0; g < 256; ++g) {
-    if (count[g] == 0) continue;
-    const double mid_rank = below[g] + 0.5 * (count[g] - 1);
+  // so the sum runs over levels. Twice a middle rank less the mean,
+  // 2 below + count - kept, is an integer: the sums are exact in integers.
+  int64_t sum_u = 0, sum_v = 0;
+  for (int g = 0, below = 0; g < 256; below += count[g], ++g) {
+    const int64_t twice_rank = 2 * below + count[g] - nb.kept;
     const int32_t offset_u = static_cast<int32_t>(static_cast<uint32_t>(offsets[g]));
     const int64_t offset_v = (offsets[g] - offset_u) / (int64_t{1} << 32);
-    nb.intensity_centroid += (mid_rank - mean_rank) * Eigen::Vector2d(offset_u, static_cast<double>(offset_v));
+    sum_u += twice_rank * offset_u, sum_v += twice_rank * offset_v;
   }
+  nb.intensity_centroid = 0.5 * Eigen::Vector2d(static_cast<double>(sum_u), static_cast<double>(sum_v));
   return nb;
 }
 

@@ -4,20 +4,11 @@
 
 namespace risas {
 
-void ranksBelow(const int* histogram, int levels, int* below) {
-  int seen = 0;
-  for (int v = 0; v < levels; ++v) {
-    below[v] = seen;
-    seen += histogram[v];
-  }
-}
-
 void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table) {
   int64_t total = 0;
   for (int v = 0; v < levels; ++v) total += histogram[v];
-  // The running count is ranksBelow's, kept inline so that the descriptor's
-  // per-keypoint call allocates nothing. The group, below * groups / total
-  // rounded down, only grows with below: it is stepped, not divided for.
+  // below is the running count. The group, below * groups / total rounded
+  // down, only grows with below: it is stepped, not divided for.
   int64_t below = 0, group = 0, next = total;  // next: where group + 1 starts, times groups
   for (int v = 0; v < levels; ++v) {
     while (total && below * groups >= next) ++group, next += total;
