@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace risas {
@@ -167,12 +168,18 @@ TEST(Geometry, ABlockBelongsToTheSurfaceOfItsFirstPointWithDepth) {
   }
 }
 
+// Whether grid point (a, b) counts in the window of grid point (i, j), and
+// (for a == i, b == j) whether that point has a normal at all.
+using SameSurface = std::function<bool(int i, int j, int a, int b)>;
+
 // The largest angle between a normal of g and a direct double-precision PCA
 // of its window: the square of grid points within normal_radius, clamped at
-// the image edges. A grid point is its block's mean of the points on the
-// first one's surface (depth within depth_change_factor of it). For frames of
-// one smooth surface, where every window is that plain square.
-double worstAngleToDirectFit(const FrameGeometry& g, const GeometryParams& params) {
+// the image edges, those of them on the centre's surface. A grid point is
+// its block's mean of the points on the first one's surface (depth within
+// depth_change_factor of it). By default for frames of one smooth surface,
+// where every window is that plain square.
+double worstAngleToDirectFit(const FrameGeometry& g, const GeometryParams& params,
+                             const SameSurface& same_surface = [](int, int, int, int) { return true; }) {
   const int height = g.size().height, width = g.size().width;
   const int stride = params.normal_stride, radius = (params.normal_radius + stride - 1) / stride;
   const int grid_rows = (height + stride - 1) / stride, grid_cols = (width + stride - 1) / stride;
@@ -196,10 +203,12 @@ double worstAngleToDirectFit(const FrameGeometry& g, const GeometryParams& param
   double worst = 0.0;
   for (int i = 0; i < grid_rows; ++i) {
     for (int j = 0; j < grid_cols; ++j) {
+      if (!same_surface(i, j, i, j)) continue;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       std::vector<Eigen::Vector3d> window;
       for (int a = std::max(i - radius, 0); a <= std::min(i + radius, grid_rows - 1); ++a) {
         for (int b = std::max(j - radius, 0); b <= std::min(j + radius, grid_cols - 1); ++b) {
+          if (!same_surface(i, j, a, b)) continue;
           window.push_back(grid[static_cast<size_t>(a * grid_cols + b)]);
           mean += window.back();
         }
@@ -262,6 +271,34 @@ TEST(Geometry, NormalsEqualADirectFitOfEachWindow) {
       }
     }
   }
+}
+
+TEST(Geometry, NormalsNearAJumpEqualADirectFitOfTheirSurfaceInTheWindow) {
+  // Two wavy surfaces, 1 m and 1.5 m away, meet at a jump between columns 49
+  // and 50, between grid columns 24 and 25 on the default stride. Those two
+  // grid columns border the jump and belong to no surface; every window
+  // within the radius of them takes its own side's points only (summed point
+  // by point, a path of its own), on rows of every window width at the top
+  // and bottom edges.
+  const int width = 100, height = 75, jump = 50;
+  cv::Mat depth(height, width, CV_32FC1);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const float wave = 0.1f * std::sin(u / 9.0f) * std::cos(v / 11.0f);
+      depth.at<float>(v, u) = (u < jump ? 1.0f : 1.5f) * (1.0f + wave);
+    }
+  }
+  const RgbdFrame frame(cv::Mat(height, width, CV_8UC1, cv::Scalar(90)), depth, Intrinsics(80, 80, 50, 37));
+  const GeometryParams params;
+  const FrameGeometry g = computeGeometry(frame, params);
+  const int border_left = jump / params.normal_stride - 1, border_right = border_left + 1;
+  const auto side = [&](int j) { return j <= border_left ? 0 : 1; };
+  // (Every grid point off the border must have a normal.)
+  EXPECT_LT(worstAngleToDirectFit(g, params,
+                                  [&](int, int j, int, int b) {
+                                    return b != border_left && b != border_right && side(b) == side(j);
+                                  }),
+            0.1);
 }
 
 TEST(Geometry, SameNormalsOnAnyNumberOfThreads) {

@@ -4,6 +4,7 @@
 #include "vector_clones.hpp"
 #include "with_default.hpp"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -127,7 +128,20 @@ void boxCovariances(const RowMoments& columns, int cols, Radius radius, RowMomen
   }
 }
 
-// A cloud of points as three planes of coordinates.
+// The window sums of points near a jump (sameSurfaceCovariance) read whole
+// blocks of columns, up to kWindowLanes - 1 past a window's last.
+constexpr int kWindowLanes = 4;
+
+// m as a size x type view of an image kWindowLanes - 1 columns wider, zero
+// there, so that reading whole blocks of columns stays inside it (the zeros
+// are never used). Kept while it has the size and type.
+void createPadded(cv::Mat& m, cv::Size size, int type) {
+  const size_t padded_step = static_cast<size_t>(size.width + kWindowLanes - 1) * CV_ELEM_SIZE(type);
+  if (m.size() == size && m.type() == type && m.step[0] >= padded_step) return;
+  m = cv::Mat(size.height, size.width + kWindowLanes - 1, type, cv::Scalar::all(0)).colRange(0, size.width);
+}
+
+// A cloud of points as three planes of coordinates (padded, createPadded).
 struct GridCloud {
   cv::Mat x, y, z;  // CV_32FC1, metres; NaN where there is no point
 };
@@ -222,7 +236,7 @@ void gridPoints(const cv::Mat& depth, const Intrinsics& intrinsics, int stride, 
                 GridCloud& grid, cv::Mat& on_surface) {
   const int rows = depth.rows, cols = depth.cols;
   const int grid_rows = (rows + stride - 1) / stride, grid_cols = (cols + stride - 1) / stride;
-  for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) plane->create(grid_rows, grid_cols, CV_32FC1);
+  for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) createPadded(*plane, cv::Size(grid_cols, grid_rows), CV_32FC1);
   on_surface.create(depth.size(), CV_8UC1);
   const std::vector<float> x_factor = rayFactors(cols, intrinsics.cx, intrinsics.fx);
   const std::vector<float> y_factor = rayFactors(rows, intrinsics.cy, intrinsics.fy);
@@ -271,23 +285,46 @@ void surfaceInteriorMask(const cv::Mat& depth, float depth_change_factor, cv::Ma
 // The covariance of the window's points on the same surface as its centre:
 // the O(window) path for points near a jump, where a plain box would mix
 // surfaces. Taken about the centre (the covariance does not change), where
-// the offsets are centimetres and float sums are exact enough.
+// the offsets are centimetres and float sums are exact enough. A window row
+// goes kWindowLanes columns at a time, selected by label in lanes (the
+// compiler did not vectorise the loop over a window's few columns itself),
+// column c + k into lane k; the blocks read up to kWindowLanes - 1 columns
+// past the window, which the images' padding (createPadded) keeps inside
+// them.
 void sameSurfaceCovariance(const GridCloud& grid, const cv::Mat& surfaces, int v, int u, int radius,
                            RowCovariances& out) {
+  using cv::v_float32x4;
+  using cv::v_int32x4;
+  static_assert(kWindowLanes == v_float32x4::nlanes, "a block is one vector");
   const int label = surfaces.at<int>(v, u);
-  const float cx = grid.x.at<float>(v, u), cy = grid.y.at<float>(v, u), cz = grid.z.at<float>(v, u);
-  float n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  const v_float32x4 cx = cv::v_setall_f32(grid.x.at<float>(v, u)), cy = cv::v_setall_f32(grid.y.at<float>(v, u)),
+                    cz = cv::v_setall_f32(grid.z.at<float>(v, u)), one = cv::v_setall_f32(1.0f);
+  const int c_begin = std::max(u - radius, 0), c_last = std::min(u + radius, surfaces.cols - 1);
+  const v_int32x4 target = cv::v_setall_s32(label), last = cv::v_setall_s32(c_last), lanes(0, 1, 2, 3);
+  v_float32x4 s[kMoments];
+  for (v_float32x4& sum : s) sum = cv::v_setzero_f32();
   for (int r = std::max(v - radius, 0); r <= std::min(v + radius, surfaces.rows - 1); ++r) {
     const int* l = surfaces.ptr<int>(r);
     const float *px = grid.x.ptr<float>(r), *py = grid.y.ptr<float>(r), *pz = grid.z.ptr<float>(r);
-    for (int c = std::max(u - radius, 0); c <= std::min(u + radius, surfaces.cols - 1); ++c) {
-      if (l[c] != label) continue;
-      const float dx = px[c] - cx, dy = py[c] - cy, dz = pz[c] - cz;
-      n += 1; x += dx; y += dy; z += dz;
-      xx += dx * dx; xy += dx * dy; xz += dx * dz; yy += dy * dy; yz += dy * dz; zz += dz * dz;
+    for (int c = c_begin; c <= c_last; c += kWindowLanes) {
+      // Masked, not branched on; a point of another surface may be NaN.
+      const v_float32x4 in =
+          cv::v_reinterpret_as_f32((cv::v_load(l + c) == target) & (lanes + cv::v_setall_s32(c) <= last));
+      const v_float32x4 dx = (cv::v_load(px + c) - cx) & in, dy = (cv::v_load(py + c) - cy) & in,
+                        dz = (cv::v_load(pz + c) - cz) & in;
+      s[kN] += one & in;
+      s[kX] += dx, s[kY] += dy, s[kZ] += dz;
+      s[kXX] += dx * dx, s[kXY] += dx * dy, s[kXZ] += dx * dz;
+      s[kYY] += dy * dy, s[kYZ] += dy * dz, s[kZZ] += dz * dz;
     }
   }
-  out.set(u, n, x, y, z, xx, xy, xz, yy, yz, zz);
+  float m[kMoments];
+  for (int moment = 0; moment < kMoments; ++moment) {
+    float lane[kWindowLanes];
+    cv::v_store(lane, s[moment]);
+    m[moment] = (lane[0] + lane[1]) + (lane[2] + lane[3]);
+  }
+  out.set(u, m[kN], m[kX], m[kY], m[kZ], m[kXX], m[kXY], m[kXZ], m[kYY], m[kYZ], m[kZZ]);
 }
 
 // Unit normals of a row's windows facing the camera; (0, 0, 0) where there
@@ -431,7 +468,11 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
   // connected part of the interior it lies in. Border points themselves
   // (label 0) get no normal and count in no window.
   cv::Mat& surfaces = b.surfaces;
+  createPadded(surfaces, interior.size(), CV_32S);
   cv::connectedComponents(interior, surfaces, 4, CV_32S);
+  // It writes into the padded view, which has its size and type (were it
+  // to allocate afresh, the window sums would read past its rows).
+  CV_Assert(surfaces.step[0] >= (surfaces.cols + kWindowLanes - 1) * sizeof(int));
   // Where the window reaches no other surface, its own surface's points are
   // all its interior points: a box sum of the interior's moments, O(1).
   // Only windows across a jump (two labels) need the O(window) sum.
