@@ -184,7 +184,7 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
       // Tensor row r (reflected into the image), filtered along the row,
       // into the ring.
       const auto addRow = [&](int r) {
-        const int v = cv::borderInterpolate(r, size.height, cv::BORDER_REFLECT_101);
+        const int v = borderIndex(r, size.height, cv::BORDER_REFLECT_101);
         const int above = std::max(v - 1, 0), below = std::min(v + 1, size.height - 1);
         sobelRow(I.row(above), I.row(v), I.row(below), cols, w.gradient(0), w.gradient(1));
         sobelRow(P.row(above), P.row(v), P.row(below), cols, w.gradient(2), w.gradient(3));
@@ -193,8 +193,8 @@ float Detector::computeResponse(const RgbdFrame& frame, const FrameGeometry& geo
         for (int e = 0; e < WindowRows::kTensor; ++e) {
           float* row = w.tensor(e) + radius;
           for (int t = 1; t <= radius; ++t) {
-            row[-t] = row[cv::borderInterpolate(-t, cols, cv::BORDER_REFLECT_101)];
-            row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, cv::BORDER_REFLECT_101)];
+            row[-t] = row[borderIndex(-t, cols, cv::BORDER_REFLECT_101)];
+            row[cols - 1 + t] = row[borderIndex(cols - 1 + t, cols, cv::BORDER_REFLECT_101)];
           }
           for (int t = 0; t < w.span; ++t) shifted[static_cast<size_t>(t)] = row + t - radius;
           symmetricWindow(shifted.data(), half.data(), radius, cols, w.ring(e, r));

@@ -80,8 +80,8 @@ void BlurredRows::filterAlong(int v, float* out) {
     std::copy(in, in + cols, row);
   }
   for (int t = 1; t <= radius; ++t) {
-    row[-t] = row[cv::borderInterpolate(-t, cols, border_)];
-    row[cols - 1 + t] = row[cv::borderInterpolate(cols - 1 + t, cols, border_)];
+    row[-t] = row[borderIndex(-t, cols, border_)];
+    row[cols - 1 + t] = row[borderIndex(cols - 1 + t, cols, border_)];
   }
   withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
       radius, [&](auto fixed_radius) { symmetricWindow(along_taps_.data(), half_.data(), fixed_radius, cols, out); });
@@ -94,7 +94,7 @@ const float* BlurredRows::row(int v) {
     // edges), all held in along_'s span slots at once.
     const int radius = static_cast<int>(half_.size()) - 1, rows = src_->rows;
     for (int t = 0; t <= 2 * radius; ++t) {
-      const int source = cv::borderInterpolate(v + t - radius, rows, border_);
+      const int source = borderIndex(v + t - radius, rows, border_);
       column_taps_[static_cast<size_t>(t)] = along_.row(source, [&](int i, float* o) { filterAlong(i, o); });
     }
     withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
@@ -102,14 +102,6 @@ const float* BlurredRows::row(int v) {
           symmetricWindow(column_taps_.data(), half_.data(), fixed_radius, src_->cols, out);
         });
   });
-}
-
-void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& dst) {
-  CV_Assert(dst.data != src.data);
-  thread_local BlurredRows rows;
-  rows.reset(src, half, border);
-  dst.create(src.size(), CV_32FC1);
-  for (int v = 0; v < src.rows; ++v) std::copy_n(rows.row(v), src.cols, dst.ptr<float>(v));
 }
 
 }  // namespace risas

@@ -23,6 +23,18 @@ std::vector<float> gaussianHalfKernel(double sigma);
 // their grid), have radius 5; gray_sigma 1 has radius 3.
 constexpr int kDefaultWindowRadius = 5, kDefaultGrayRadius = 3;
 
+// cv::borderInterpolate for the two borders the filters use
+// (cv::BORDER_REPLICATE and cv::BORDER_REFLECT_101), inline: the filters ask
+// for it per row and tap, and OpenCV's is a call into its library.
+inline int borderIndex(int p, int len, int border) {
+  if (static_cast<unsigned>(p) < static_cast<unsigned>(len)) return p;
+  if (border == cv::BORDER_REPLICATE || len == 1) return p < 0 ? 0 : len - 1;
+  do {
+    p = p < 0 ? -p : 2 * len - 2 - p;
+  } while (static_cast<unsigned>(p) >= static_cast<unsigned>(len));
+  return p;
+}
+
 // The symmetric filter: out[u] = half[0] taps[radius][u] + the sum over
 // t = 1 .. radius of half[t] (taps[radius - t][u] + taps[radius + t][u]).
 // Along a row, taps[i] is the row shifted by i - radius; down the columns,
@@ -52,9 +64,5 @@ class BlurredRows {
   int border_ = 0;
   RowCache along_, finished_;
 };
-
-// dst (CV_32FC1) = the rows of BlurredRows, the whole image. dst must not be
-// src.
-void gaussianBlur(const cv::Mat& src, const std::vector<float>& half, int border, cv::Mat& dst);
 
 }  // namespace risas

@@ -119,7 +119,7 @@ void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, doub
   CV_Assert(normals.type() == CV_32FC3);
   const int stride = geometry.normal_stride;
   // Per-thread buffers, reused from frame to frame (see normals.cpp).
-  thread_local cv::Mat p, weight, p_blurred, weight_blurred;
+  thread_local cv::Mat p, weight;
   p.create(normals.size(), CV_32FC1);
   weight.create(normals.size(), CV_32FC1);
   for (int r = 0; r < normals.rows; ++r) {
@@ -134,21 +134,18 @@ void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, doub
       wr[c] = has ? 1.0f : 0.0f;
     }
   }
-  const cv::Mat* smoothed_p = &p;
-  const cv::Mat* smoothed_weight = &weight;
-  if (sigma > 0.0) {
-    const std::vector<float> half = gaussianHalfKernel(sigma / stride);
-    gaussianBlur(p, half, cv::BORDER_REPLICATE, p_blurred);
-    gaussianBlur(weight, half, cv::BORDER_REPLICATE, weight_blurred);
-    smoothed_p = &p_blurred, smoothed_weight = &weight_blurred;
-  }
-  // Far inside large holes the weight vanishes; those pixels have no
-  // keypoints and no neighbour with one within the Harris window, so 0 is as
-  // good as any value there.
+  // Smoothed row by row (sigma 0: the kernel is [1]), each row divided as
+  // soon as it is made. Far inside large holes the weight vanishes; those
+  // pixels have no keypoints and no neighbour with one within the Harris
+  // window, so 0 is as good as any value there.
+  const std::vector<float> half = gaussianHalfKernel(sigma / stride);
+  thread_local BlurredRows smoothed_p, smoothed_weight;
+  smoothed_p.reset(p, half, cv::BORDER_REPLICATE);
+  smoothed_weight.reset(weight, half, cv::BORDER_REPLICATE);
   grid.create(p.size(), CV_32FC1);
   for (int r = 0; r < p.rows; ++r) {
-    const float* pr = smoothed_p->ptr<float>(r);
-    const float* wr = smoothed_weight->ptr<float>(r);
+    const float* pr = smoothed_p.row(r);
+    const float* wr = smoothed_weight.row(r);
     float* out = grid.ptr<float>(r);
     for (int c = 0; c < p.cols; ++c) out[c] = wr[c] > 1e-3f ? pr[c] / wr[c] : 0.0f;
   }
