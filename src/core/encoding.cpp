@@ -84,7 +84,9 @@ void placeSamples(const float* di, const float* dj, int n, float cu, float cv, f
 }
 
 // Each sample's look-ups, one by one: its pixel's surface flag, block normal,
-// depth and back-projection factors, and its cell's 2 x 2 grey values.
+// depth and back-projection factors, and its cell's 2 x 2 grey values. In
+// two passes, the normals in the second: in one, the loop held more
+// pointers than the CPU has registers and reloaded them every sample.
 // Stride is an int or, for the default, a compile-time constant (a shift).
 template <class Stride>
 void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
@@ -93,24 +95,17 @@ void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride st
   const int *pu = d.u.data(), *pv = d.v.data(), *pu0 = d.u0.data(), *pv0 = d.v0.data();
   uint8_t* on = d.on_surface.data();
   uint32_t* cell = d.cell.data();
-  float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data(), *z = d.z.data();
-  float *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
+  float *z = d.z.data(), *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
   const uchar* gray_data = gray.data;
   const size_t gray_step = gray.step;
   const uchar* on_data = geometry.on_block_surface.data;
   const size_t on_step = geometry.on_block_surface.step;
   const uchar* depth_data = geometry.depth.data;
   const size_t depth_step = geometry.depth.step;
-  const uchar* normals_data = geometry.normals.data;
-  const size_t normals_step = geometry.normals.step;
   const float *x_table = geometry.x_factor.data(), *y_table = geometry.y_factor.data();
   for (int s = 0; s < n; ++s) {
     const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
     on[s] = on_data[v * on_step + u];
-    const unsigned block_stride = stride;  // a shift for the default stride
-    const float* normal =
-        reinterpret_cast<const float*>(normals_data + v / block_stride * normals_step) + u / block_stride * 3;
-    nx[s] = normal[0], ny[s] = normal[1], nz[s] = normal[2];
     z[s] = reinterpret_cast<const float*>(depth_data + v * depth_step)[u];
     x_factor[s] = x_table[u];
     y_factor[s] = y_table[v];
@@ -120,6 +115,16 @@ void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride st
     const uchar* row1 = row0 + gray_step;
     cell[s] = static_cast<uint32_t>(row0[0]) | static_cast<uint32_t>(row0[1]) << 8 |
               static_cast<uint32_t>(row1[0]) << 16 | static_cast<uint32_t>(row1[1]) << 24;
+  }
+  float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
+  const uchar* normals_data = geometry.normals.data;
+  const size_t normals_step = geometry.normals.step;
+  const unsigned block_stride = stride;  // a shift for the default stride
+  for (int s = 0; s < n; ++s) {
+    const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
+    const float* normal =
+        reinterpret_cast<const float*>(normals_data + v / block_stride * normals_step) + u / block_stride * 3;
+    nx[s] = normal[0], ny[s] = normal[1], nz[s] = normal[2];
   }
 }
 
