@@ -82,6 +82,11 @@ cv::Mat backProject(const cv::Mat& depth_metres, const Intrinsics& intrinsics);
 // metres, NaN where missing), back-projected as backProject does it.
 void estimateNormals(const cv::Mat& depth_metres, const Intrinsics& intrinsics, const GeometryParams& params,
                      cv::Mat& normals, cv::Mat& on_block_surface);
+// The same with the back-projection factors already tabulated (rayFactors),
+// as computeGeometry has them for FrameGeometry.
+void estimateNormals(const cv::Mat& depth_metres, const std::vector<float>& x_factor,
+                     const std::vector<float>& y_factor, const GeometryParams& params, cv::Mat& normals,
+                     cv::Mat& on_block_surface);
 
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry);
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);

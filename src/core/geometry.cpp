@@ -39,7 +39,8 @@ void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, Frame
   geometry.x_factor = rayFactors(frame.size().width, frame.intrinsics().cx, frame.intrinsics().fx);
   geometry.y_factor = rayFactors(frame.size().height, frame.intrinsics().cy, frame.intrinsics().fy);
   geometry.normal_stride = params.normal_stride;
-  estimateNormals(frame.depth(), frame.intrinsics(), params, geometry.normals, geometry.on_block_surface);
+  estimateNormals(frame.depth(), geometry.x_factor, geometry.y_factor, params, geometry.normals,
+                  geometry.on_block_surface);
 }
 
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params) {

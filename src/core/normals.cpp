@@ -232,14 +232,12 @@ void gridRow(const cv::Mat& depth, const std::vector<float>& x_factor, const flo
 // Computed from the depth and the back-projection factors, which give the
 // very points backProject gives, and written as x, y and z planes, which the
 // loops over blocks vectorise (an interleaved point does not load in one).
-void gridPoints(const cv::Mat& depth, const Intrinsics& intrinsics, int stride, float depth_change_factor,
-                GridCloud& grid, cv::Mat& on_surface) {
+void gridPoints(const cv::Mat& depth, const std::vector<float>& x_factor, const std::vector<float>& y_factor,
+                int stride, float depth_change_factor, GridCloud& grid, cv::Mat& on_surface) {
   const int rows = depth.rows, cols = depth.cols;
   const int grid_rows = (rows + stride - 1) / stride, grid_cols = (cols + stride - 1) / stride;
   for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) createPadded(*plane, cv::Size(grid_cols, grid_rows), CV_32FC1);
   on_surface.create(depth.size(), CV_8UC1);
-  const std::vector<float> x_factor = rayFactors(cols, intrinsics.cx, intrinsics.fx);
-  const std::vector<float> y_factor = rayFactors(rows, intrinsics.cy, intrinsics.fy);
   cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
     thread_local BlockRowSums sums;
     for (std::vector<float>* v : {&sums.first, &sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
@@ -523,14 +521,23 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
 
 void estimateNormals(const cv::Mat& depth_metres, const Intrinsics& intrinsics, const GeometryParams& params,
                      cv::Mat& normals, cv::Mat& on_block_surface) {
+  estimateNormals(depth_metres, rayFactors(depth_metres.cols, intrinsics.cx, intrinsics.fx),
+                  rayFactors(depth_metres.rows, intrinsics.cy, intrinsics.fy), params, normals, on_block_surface);
+}
+
+void estimateNormals(const cv::Mat& depth_metres, const std::vector<float>& x_factor,
+                     const std::vector<float>& y_factor, const GeometryParams& params, cv::Mat& normals,
+                     cv::Mat& on_block_surface) {
   CV_Assert(depth_metres.type() == CV_32FC1);
+  CV_Assert(x_factor.size() == static_cast<size_t>(depth_metres.cols) &&
+            y_factor.size() == static_cast<size_t>(depth_metres.rows));
   const int stride = params.normal_stride;
   // On the grid, a jump is measured over stride pixels and the window holds
   // the grid points within normal_radius pixels of the centre.
   const float factor = static_cast<float>(params.depth_change_factor);
   const int grid_radius = std::max(1, (params.normal_radius + stride - 1) / stride);
   NormalBuffers& b = buffers();
-  gridPoints(depth_metres, intrinsics, stride, factor, b.grid, on_block_surface);
+  gridPoints(depth_metres, x_factor, y_factor, stride, factor, b.grid, on_block_surface);
   fitNormals(b.grid, grid_radius, factor * stride, params.min_normal_points, normals);
 }
 
