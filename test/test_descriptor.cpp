@@ -48,6 +48,24 @@ TEST(Ranking, RankGroupsAreEqualSizedAndTiesShareAGroup) {
   EXPECT_THROW(rankGroups({300}, 256, 4, labels), cv::Exception);
 }
 
+TEST(Ranking, LevelsAboveTheLastCountedOneStayInTheLastGroup) {
+  // Issue 20: levels past the highest counted one were labelled `groups`,
+  // one past the last group, and the encoder indexed its histogram with it.
+  int histogram[256] = {};
+  histogram[10] = 3, histogram[20] = 1;
+  uint8_t table[256];
+  for (int groups : {1, 2, 4, 8, 256}) {
+    rankGroupTable(histogram, 256, groups, table);
+    for (int v = 0; v < 256; ++v) EXPECT_LT(table[v], groups) << "level " << v << ", " << groups << " groups";
+  }
+  rankGroupTable(histogram, 256, 4, table);
+  EXPECT_EQ(table[10], 0);  // counted levels keep their groups: 0 of 4 below
+  EXPECT_EQ(table[20], 3);  // 3 of 4 below
+  const int empty[256] = {};
+  rankGroupTable(empty, 256, 4, table);
+  for (int v = 0; v < 256; ++v) EXPECT_EQ(table[v], 0);
+}
+
 TEST(Neighbourhood, KeepsTheForegroundOfTheDiscAndItsMoments) {
   // A plane at 1 m with a step to 1.5 m at column 9 and a grey ramp rising
   // to the right in steps of 3 columns (ties). Discs of radius 8.5 about

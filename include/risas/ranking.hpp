@@ -11,7 +11,8 @@ namespace risas {
 // table[v] = below[v] * groups / count, `groups` groups of equal size, where
 // below[v] (the rank of v) counts the values strictly below v, so equal
 // values share a rank. O(levels), whatever the count.
-// histogram and table hold `levels` entries.
+// Every entry lies in [0, groups), also for levels no value has.
+// histogram and table hold `levels` entries; groups in [1, 256].
 void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table);
 
 // Ranks cut into `groups` groups of equal size: group = rank * groups / count.

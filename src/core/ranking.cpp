@@ -11,7 +11,10 @@ void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table
   // down, only grows with below: it is stepped, not divided for.
   int64_t below = 0, group = 0, next = total;  // next: where group + 1 starts, times groups
   for (int v = 0; v < levels; ++v) {
-    while (total && below * groups >= next) ++group, next += total;
+    // Levels above the highest counted one reach below == total, one group
+    // past the last; they hold no value, and the last group keeps every
+    // label a valid index.
+    while (total && below * groups >= next && group < groups - 1) ++group, next += total;
     table[v] = static_cast<uint8_t>(group);
     below += histogram[v];
   }
