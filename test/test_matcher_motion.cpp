@@ -94,6 +94,20 @@ TEST(Motion, RecoversAKnownMotionDespiteOutliers) {
   EXPECT_EQ(m.inliers, c.truly_inlier);
 }
 
+TEST(Motion, AConfidenceOfOneSearchesAllIterations) {
+  // Issue 20: confidence 1 made log(0) = -inf, converted to an integer
+  // (undefined), and RANSAC stopped after its first hypothesis. With 85 %
+  // outliers the first sample is almost never all inliers.
+  const MotionCase c = makeCase(200, 0.85, 0.0, 4);
+  MotionParams params;
+  params.confidence = 1.0;
+  params.max_iterations = 3000;
+  const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches, params);
+  ASSERT_TRUE(m.valid);
+  EXPECT_LT(rotationErrorDeg(m.train_T_query, c.truth), 1e-4);
+  EXPECT_EQ(m.num_inliers, 30);
+}
+
 TEST(Motion, ToleratesSensorNoise) {
   const MotionCase c = makeCase(150, 0.3, 0.004, 2);
   const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches);

@@ -18,8 +18,14 @@ struct Intrinsics {
   static Intrinsics fromMatrix(const cv::Matx33d& K);
   cv::Matx33d matrix() const;
 
-  // Throws InputError when a focal length is not finite and positive or the
-  // principal point is not finite (and, given a size, lies outside the image).
+  // Throws InputError when a focal length is not finite or outside
+  // [kMinFocal, kMaxFocal] pixels, or the principal point is not finite;
+  // given the image size, also when a focal length is outside
+  // [kMinFocalPerSide, kMaxFocalPerSide] times the image's larger side (a
+  // field of view of about 175 down to 1 degree) or the principal point
+  // lies outside the image.
+  static constexpr double kMinFocal = 1.0, kMaxFocal = 1e6;
+  static constexpr double kMinFocalPerSide = 0.02, kMaxFocalPerSide = 50.0;
   void validate() const;
   void validate(cv::Size image_size) const;
 

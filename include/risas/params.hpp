@@ -2,8 +2,10 @@
 //
 // Plain structs like OpenCV's ORB/SIFT parameters: defaults are the paper's
 // values (or the authors' reference implementation where the paper is silent),
-// validate() throws std::invalid_argument naming the offending field, and
-// write()/read() use cv::FileStorage so a parameter file round-trips. The
+// validate() throws InputError (a std::invalid_argument) naming the offending
+// field, and write()/read() use cv::FileStorage so a parameter file
+// round-trips. read() rejects unknown names, values out of range and
+// fractions in whole-number fields with InputError. The
 // field names are the same in the YAML files, the tools and the ROS .cfg.
 #pragma once
 
@@ -106,6 +108,10 @@ struct DescriptorParams {
   // theta instead.
   double min_projection_angle_deg = 15.0;
 
+  // The largest descriptor validate() accepts: 8 KB a keypoint. Far past it
+  // a patch's few thousand samples leave nearly every bin empty, and one
+  // frame's descriptors would run to hundreds of megabytes.
+  static constexpr int kMaxDimension = 2048;
   int dimension() const { return n_pie * n_bin * (n_vec + 1); }
   void validate() const;
   void write(cv::FileStorage& fs) const;

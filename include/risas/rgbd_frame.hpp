@@ -5,6 +5,8 @@
 
 #include <opencv2/core.hpp>
 
+#include <string>
+
 namespace risas {
 
 // Channel order of a 3- or 4-channel colour image (OpenCV's imread gives BGR,
@@ -17,8 +19,13 @@ class RgbdFrame {
   // color: CV_8UC1 (grey), CV_8UC3 or CV_8UC4.
   // depth: CV_16UC1 in millimetres (0 = missing) or CV_32FC1 in metres
   //        (non-finite or <= 0 = missing), same size as color, registered.
-  // Throws InputError (naming the problem) on empty images, a size mismatch,
-  // an unsupported type, bad intrinsics or a depth image with no valid pixel.
+  // Depth beyond kMaxDepth metres is no measurement of an RGB-D camera and
+  // counts as missing. Throws InputError (naming the problem) on empty
+  // images, frames smaller than kMinSide x kMinSide, a size mismatch, an
+  // unsupported type, bad intrinsics (Intrinsics::validate with the size)
+  // or a depth image with no valid pixel.
+  static constexpr float kMaxDepth = 100.0f;
+  static constexpr int kMinSide = 2;
   RgbdFrame(const cv::Mat& color, const cv::Mat& depth, const Intrinsics& intrinsics,
             ColorOrder order = ColorOrder::BGR);
 
@@ -37,5 +44,8 @@ class RgbdFrame {
 // Depth in metres, NaN where missing: 16UC1 millimetres and 32FC1 metres go
 // through one templated path (as depth_image_proc does).
 cv::Mat depthToMetres(const cv::Mat& depth);
+
+// An image's type in words, for errors: "16-bit, 3 channels (CV_16UC3)".
+std::string describeType(const cv::Mat& image);
 
 }  // namespace risas

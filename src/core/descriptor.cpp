@@ -4,6 +4,7 @@
 #include "risas/neighbourhood.hpp"
 #include "risas/orientation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace risas {
@@ -16,6 +17,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
   const Intrinsics& K = frame.intrinsics();
   // s_min and s_max of eq. 4 need the frame's depth range; the metric radius does not.
   const ScaleRange scales = params_.support_radius > 0.0 ? ScaleRange() : frameScaleRange(frame.depth());
+  const float max_radius = std::hypot(static_cast<float>(frame.size().width), static_cast<float>(frame.size().height));
   const int n = static_cast<int>(keypoints.size());
   cv::Mat rows(n, descriptorSize(), CV_32F);
   std::vector<char> described(static_cast<size_t>(n), 0);
@@ -26,7 +28,9 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       cv::KeyPoint& kp = keypoints[static_cast<size_t>(i)];
       const int u = cvRound(kp.pt.x), v = cvRound(kp.pt.y);
       if (u < 0 || v < 0 || u >= frame.size().width || v >= frame.size().height || !geometry.hasPoint(v, u)) continue;
-      const float R = patchRadius(geometry.depth.at<float>(v, u), scales, params_.support_radius, K);
+      // A patch wider than the image gathers nothing more (and its radius
+      // must stay in an int's range for the neighbourhood's loops).
+      const float R = std::min(patchRadius(geometry.depth.at<float>(v, u), scales, params_.support_radius, K), max_radius);
       const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
       if (!nb) continue;
       const Orientation orientation = dominantOrientation(*nb, K, params_);

@@ -2,13 +2,76 @@
 
 #include "risas/errors.hpp"
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <fstream>
 #include <sstream>
 
 namespace risas {
+namespace {
+
+// What a call writes to the process's stderr (file descriptor 2) while it
+// runs, captured instead of shown: libpng reports a corrupt file there
+// itself, before OpenCV returns. One call at a time (stderr is one).
+template <class F>
+std::string capturingStderr(F&& call) {
+  static std::mutex mutex;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::fflush(stderr);
+  std::FILE* sink = std::tmpfile();
+  const int saved = sink ? ::dup(2) : -1;
+  if (saved < 0) {  // cannot capture: let it through
+    if (sink) std::fclose(sink);
+    call();
+    return {};
+  }
+  ::dup2(::fileno(sink), 2);
+  try {
+    call();
+  } catch (...) {
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+    std::fclose(sink);
+    throw;
+  }
+  std::fflush(stderr);
+  ::dup2(saved, 2);
+  ::close(saved);
+  std::string text(4096, '\0');
+  std::rewind(sink);
+  text.resize(std::fread(text.data(), 1, text.size(), sink));
+  std::fclose(sink);
+  return text;
+}
+
+// cv::imread, its complaints (OpenCV's log, libpng's own lines) folded into
+// the one InputError: the first of them says what is wrong with the file.
+cv::Mat readImage(const std::string& path, int flags, const char* what) {
+  const std::string prefix = std::string("cannot read ") + what + " image " + path + ": ";
+  if (!std::filesystem::is_regular_file(path)) throw InputError(prefix + "no such file");
+  cv::Mat image;
+  const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  std::string said = capturingStderr([&] {
+    try {
+      image = cv::imread(path, flags);
+    } catch (const cv::Exception&) {
+      image.release();
+    }
+  });
+  cv::utils::logging::setLogLevel(level);
+  if (!image.empty()) return image;
+  said = said.substr(0, said.find('\n'));
+  throw InputError(prefix + (said.empty() ? "not an image OpenCV can decode" : said));
+}
+
+}  // namespace
 
 Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
   std::ifstream in(path);
@@ -67,12 +130,12 @@ Intrinsics findIntrinsics(const std::string& dir) {
 }
 
 RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path) {
-  RgbdImages images{cv::imread(color_path, cv::IMREAD_COLOR), cv::imread(depth_path, cv::IMREAD_ANYDEPTH)};
-  if (images.bgr.empty()) throw InputError("cannot read colour image " + color_path);
-  if (images.depth_mm.empty()) throw InputError("cannot read depth image " + depth_path);
+  // Depth as stored: IMREAD_ANYDEPTH alone would turn a 16-bit colour image
+  // into grey and accept it.
+  RgbdImages images{readImage(color_path, cv::IMREAD_COLOR, "colour"), readImage(depth_path, cv::IMREAD_UNCHANGED, "depth")};
   if (images.depth_mm.type() != CV_16UC1) {
-    throw InputError("depth image " + depth_path + " must be 16-bit millimetres, got " +
-                     cv::typeToString(images.depth_mm.type()));
+    throw InputError("depth image " + depth_path + " must be single-channel 16-bit millimetres, got " +
+                     describeType(images.depth_mm));
   }
   return images;
 }

@@ -85,12 +85,16 @@ MotionEstimate estimateRigidMotion(const std::vector<cv::Point3f>& query_points,
     if (count > best) {
       best = count;
       best_T = T;
-      // Adaptive stop: enough samples for an all-inlier draw at `confidence`.
+      // Adaptive stop: enough samples for an all-inlier draw at `confidence`
+      // (a confidence of 1 never stops early; the bound is taken in double,
+      // before the conversion, so that it stays in a long's range).
       const double w = static_cast<double>(best) / n;
       const double p_fail = 1.0 - w * w * w;
       if (p_fail <= 1e-12) break;
-      const double needed = std::log(1.0 - params.confidence) / std::log(p_fail);
-      iterations = std::min<long>(params.max_iterations, static_cast<long>(std::ceil(needed)));
+      if (params.confidence < 1.0) {
+        const double needed = std::log(1.0 - params.confidence) / std::log(p_fail);
+        iterations = static_cast<long>(std::min<double>(params.max_iterations, std::ceil(needed)));
+      }
     }
   }
   if (best < params.min_inliers) return result;

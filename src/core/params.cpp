@@ -2,6 +2,10 @@
 
 #include "risas/params_fields.hpp"
 
+#include "risas/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -16,7 +20,7 @@ struct Validator {
     if (!(value >= lo && value <= hi)) {
       std::ostringstream msg;
       msg << section << "." << name << " = " << value << " is outside [" << lo << ", " << hi << "]";
-      throw std::invalid_argument(msg.str());
+      throw InputError(msg.str());
     }
   }
   void operator()(const char*, bool) const {}
@@ -35,27 +39,63 @@ struct Writer {
   void operator()(const char* name, bool value) const { fs << name << static_cast<int>(value); }
 };
 
+// Reads the fields present in a section's node; absent ones keep their
+// values. A value is checked before it is converted (1e20 into an int would
+// not be 1e20) and a whole-number field takes no fraction.
 struct Reader {
   const cv::FileNode& node;
+  const char* section;
+  std::string where(const char* name) const { return std::string(section) + "." + name; }
   template <class T>
-  void operator()(const char* name, T& value, T, T) const {
+  void operator()(const char* name, T& value, T lo, T hi) const {
     const cv::FileNode field = node[name];
     if (field.empty()) return;  // absent: keep the default
-    if (!field.isReal() && !field.isInt()) {
-      throw std::invalid_argument(std::string("parameter ") + name + " is not a number");
+    if (!field.isReal() && !field.isInt()) throw InputError(where(name) + " is not a number");
+    const double read = static_cast<double>(field);
+    if (!(read >= static_cast<double>(lo) && read <= static_cast<double>(hi))) {
+      std::ostringstream msg;
+      msg << where(name) << " = " << read << " is outside [" << lo << ", " << hi << "]";
+      throw InputError(msg.str());
     }
     if constexpr (std::is_integral_v<T>) {
-      value = static_cast<T>(static_cast<int>(field));
-    } else {
-      value = static_cast<T>(static_cast<double>(field));
+      if (read != std::floor(read)) {
+        std::ostringstream msg;
+        msg << where(name) << " = " << read << " is not a whole number";
+        throw InputError(msg.str());
+      }
     }
+    value = static_cast<T>(read);
   }
   void operator()(const char* name, bool& value) const {
     const cv::FileNode field = node[name];
     if (field.empty()) return;
-    value = static_cast<int>(field) != 0;
+    const bool number = field.isInt() || field.isReal();
+    const double read = number ? static_cast<double>(field) : -1.0;
+    if (read != 0.0 && read != 1.0) throw InputError(where(name) + " is a flag: 0 or 1");
+    value = read != 0.0;
   }
 };
+
+// The names a section's visitor knows.
+struct NameCollector {
+  std::vector<std::string>& names;
+  template <class T>
+  void operator()(const char* name, const T&, T, T) const { names.emplace_back(name); }
+  void operator()(const char* name, bool) const { names.emplace_back(name); }
+};
+
+// InputError naming the first key of `node` that is not in `known`: a typo
+// in a parameter file would otherwise leave the default silently in place.
+void rejectUnknownKeys(const cv::FileNode& node, const std::vector<std::string>& known, const std::string& what,
+                       const std::string& prefix) {
+  for (const cv::FileNode& key : node) {
+    const std::string name = key.name();
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError("unknown " + what + " '" + prefix + name + "' (known: " + list + ")");
+  }
+}
 
 template <class P>
 void validateFields(const P& params, const char* section) {
@@ -72,38 +112,48 @@ void writeFields(const P& params, cv::FileStorage& fs, const char* section) {
 }
 
 template <class P>
-void readFields(P& params, const cv::FileNode& node) {
-  if (node.empty()) return;
-  if (!node.isMap()) throw std::invalid_argument("parameter section " + node.name() + " is not a map");
-  visitFields(params, Reader{node});
+void readFields(P& params, const cv::FileNode& node, const char* section) {
+  if (node.empty() || node.isNone()) return;
+  if (!node.isMap()) throw InputError(std::string("parameter section ") + section + " is not a map of names to values");
+  std::vector<std::string> names;
+  P copy = params;
+  visitFields(copy, NameCollector{names});
+  rejectUnknownKeys(node, names, "parameter", std::string(section) + ".");
+  visitFields(params, Reader{node, section});
 }
 
 }  // namespace
 
 void GeometryParams::validate() const { validateFields(*this, "geometry"); }
 void GeometryParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "geometry"); }
-void GeometryParams::read(const cv::FileNode& node) { readFields(*this, node); }
+void GeometryParams::read(const cv::FileNode& node) { readFields(*this, node, "geometry"); }
 
 void DetectorParams::validate() const { validateFields(*this, "detector"); }
 void DetectorParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "detector"); }
-void DetectorParams::read(const cv::FileNode& node) { readFields(*this, node); }
+void DetectorParams::read(const cv::FileNode& node) { readFields(*this, node, "detector"); }
 
 void DescriptorParams::validate() const {
   validateFields(*this, "descriptor");
   if (min_radius_px > max_radius_px) {
-    throw std::invalid_argument("descriptor.min_radius_px exceeds descriptor.max_radius_px");
+    throw InputError("descriptor.min_radius_px exceeds descriptor.max_radius_px");
+  }
+  if (dimension() > kMaxDimension) {
+    throw InputError("descriptor size n_pie * n_bin * (n_vec + 1) = " + std::to_string(dimension()) + " exceeds " +
+                     std::to_string(kMaxDimension) + " (" + std::to_string(n_pie) + " * " + std::to_string(n_bin) +
+                     " * " + std::to_string(n_vec + 1) + "): a patch of " + std::to_string(patch_radius) +
+                     " samples per radius cannot fill so many bins");
   }
 }
 void DescriptorParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "descriptor"); }
-void DescriptorParams::read(const cv::FileNode& node) { readFields(*this, node); }
+void DescriptorParams::read(const cv::FileNode& node) { readFields(*this, node, "descriptor"); }
 
 void MatchParams::validate() const { validateFields(*this, "match"); }
 void MatchParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "match"); }
-void MatchParams::read(const cv::FileNode& node) { readFields(*this, node); }
+void MatchParams::read(const cv::FileNode& node) { readFields(*this, node, "match"); }
 
 void MotionParams::validate() const { validateFields(*this, "motion"); }
 void MotionParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "motion"); }
-void MotionParams::read(const cv::FileNode& node) { readFields(*this, node); }
+void MotionParams::read(const cv::FileNode& node) { readFields(*this, node, "motion"); }
 
 void RisasParams::validate() const {
   RisasParams copy = *this;
@@ -116,6 +166,11 @@ void RisasParams::write(cv::FileStorage& fs) const {
 }
 
 void RisasParams::read(const cv::FileNode& root) {
+  if (root.empty() || root.isNone()) return;
+  if (!root.isMap()) throw InputError("parameters must be a map of sections (geometry, detector, ...)");
+  std::vector<std::string> sections;
+  visitSections(*this, [&sections](const char* name, auto&) { sections.emplace_back(name); });
+  rejectUnknownKeys(root, sections, "parameter section", "");
   visitSections(*this, [&root](const char* name, auto& section) { section.read(root[name]); });
 }
 
@@ -126,7 +181,9 @@ RisasParams RisasParams::load(const std::string& path) {
     if (!fs.isOpened()) throw std::runtime_error("cannot open parameter file " + path);
     params.read(fs.root());
   } catch (const cv::Exception& e) {
-    throw std::runtime_error("cannot parse parameter file " + path + ": " + e.msg);
+    throw std::runtime_error("cannot parse parameter file " + path + ": " + e.err);
+  } catch (const InputError& e) {
+    throw InputError("parameter file " + path + ": " + e.what());
   }
   params.validate();
   return params;

@@ -17,13 +17,13 @@ template <typename T>
 struct DepthTraits;
 
 template <>
-struct DepthTraits<uint16_t> {  // millimetres, 0 = no measurement
+struct DepthTraits<uint16_t> {  // millimetres, 0 = no measurement (65.535 m at most: within kMaxDepth)
   static float toMetres(uint16_t raw) { return raw == 0 ? kNaN : raw * 0.001f; }
 };
 
 template <>
-struct DepthTraits<float> {  // metres, NaN/inf/<=0 = no measurement
-  static float toMetres(float raw) { return std::isfinite(raw) && raw > 0.0f ? raw : kNaN; }
+struct DepthTraits<float> {  // metres, NaN/inf/<=0/beyond kMaxDepth = no measurement
+  static float toMetres(float raw) { return raw > 0.0f && raw <= RgbdFrame::kMaxDepth ? raw : kNaN; }
 };
 
 template <typename T>
@@ -37,13 +37,15 @@ cv::Mat convertDepth(const cv::Mat& depth) {
   return metres;
 }
 
+}  // namespace
+
 std::string describeType(const cv::Mat& m) {
   std::ostringstream s;
-  s << cv::typeToString(m.type());
+  s << (m.depth() == CV_8U ? "8-bit" : m.depth() == CV_16U ? "16-bit" : m.depth() == CV_32F ? "32-bit float" : "")
+    << (m.depth() == CV_8U || m.depth() == CV_16U || m.depth() == CV_32F ? ", " : "") << m.channels()
+    << (m.channels() == 1 ? " channel" : " channels") << " (" << cv::typeToString(m.type()) << ")";
   return s.str();
 }
-
-}  // namespace
 
 cv::Mat depthToMetres(const cv::Mat& depth) {
   if (depth.empty()) throw InputError("depth image is empty");
@@ -61,6 +63,10 @@ RgbdFrame::RgbdFrame(const cv::Mat& color, const cv::Mat& depth, const Intrinsic
     : intrinsics_(intrinsics) {
   if (color.empty()) throw InputError("colour image is empty");
   if (depth.empty()) throw InputError("depth image is empty");
+  if (color.rows < kMinSide || color.cols < kMinSide) {
+    throw InputError("frame of " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
+                     " pixels is too small: at least " + std::to_string(kMinSide) + "x" + std::to_string(kMinSide));
+  }
   if (color.size() != depth.size()) {
     std::ostringstream msg;
     msg << "colour (" << color.cols << "x" << color.rows << ") and depth (" << depth.cols << "x"
@@ -78,7 +84,10 @@ RgbdFrame::RgbdFrame(const cv::Mat& color, const cv::Mat& depth, const Intrinsic
   intrinsics_.validate(color.size());
   depth_ = depthToMetres(depth);
   // A frame with no depth at all is a sensor fault, not a scene: say so.
-  if (cv::countNonZero(depth_ == depth_) == 0) throw InputError("depth image has no valid pixel");
+  if (cv::countNonZero(depth_ == depth_) == 0) {
+    throw InputError("depth image has no valid pixel (depth in (0, " + std::to_string(static_cast<int>(kMaxDepth)) +
+                     "] m)");
+  }
 }
 
 }  // namespace risas
