@@ -68,10 +68,17 @@ MotionCase makeCase(int n, double outlier_share, double noise, unsigned seed) {
   c.truth.linear() = Eigen::AngleAxisd(0.35, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
   c.truth.translation() = Eigen::Vector3d(0.3, -0.05, 0.12);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d p(u(rng), u(rng), 1.5 + u(rng));
-    Eigen::Vector3d q = c.truth * p + Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    // One draw per statement: the order of a call's arguments is the compiler's.
+    const auto draw = [&rng](auto& distribution, double offset) {
+      Eigen::Vector3d v;
+      for (int k = 0; k < 3; ++k) v[k] = distribution(rng);
+      v.z() += offset;
+      return v;
+    };
+    const Eigen::Vector3d p = draw(u, 1.5);
+    Eigen::Vector3d q = c.truth * p + draw(gauss, 0.0);
     const bool outlier = i < outlier_share * n;
-    if (outlier) q = Eigen::Vector3d(u(rng), u(rng), 1.5 + u(rng));
+    if (outlier) q = draw(u, 1.5);
     c.query.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
     c.train.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
     c.matches.emplace_back(i, i, 0.0f);

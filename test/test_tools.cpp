@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -99,6 +101,13 @@ TEST_F(Tools, WrongUsageAndBadInputFailClearly) {
   r = run("risas_extract" + frameArgs("", 1) + " --fx 0 --fy 570 --cx 319.5 --cy 239.5 --out " + file("h.yml"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("focal lengths"), std::string::npos) << r.output;
+  // An unwritable output is found before the extraction (issue 20), in one line.
+  r = run("risas_extract" + frameArgs("", 1) + " --intrinsics " + file("camera-intrinsics.txt") +
+          " --out /nonexistent-folder/h.yml");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("cannot write /nonexistent-folder/h.yml: no folder"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("keypoints"), std::string::npos) << "extracted first: " << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   r = run("risas_match --help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--overlay"), std::string::npos);

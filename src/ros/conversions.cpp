@@ -3,10 +3,10 @@
 #include "risas/errors.hpp"
 #include "risas/params_fields.hpp"
 
-#include <cv_bridge/cv_bridge.h>
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
+#include <cstring>
 #include <type_traits>
 
 namespace risas_ros {
@@ -49,6 +49,38 @@ void checkBuffer(const sensor_msgs::Image& image, const char* what) {
   }
 }
 
+// The message's pixels as a cv::Mat of `type`, without a copy when they can
+// be: a step that is no multiple of the pixel size (legal: step is any row
+// length in bytes) and big-endian data are copied row by row, the latter
+// with its bytes swapped. The Mat may point into the message.
+cv::Mat imageOf(const sensor_msgs::Image& image, int type) {
+  const size_t elem = CV_ELEM_SIZE(type), elem1 = CV_ELEM_SIZE1(type);
+  const int rows = static_cast<int>(image.height), cols = static_cast<int>(image.width);
+  uchar* data = const_cast<uchar*>(image.data.data());
+  const bool swap = image.is_bigendian && elem1 > 1;
+  if (image.step % elem == 0 && !swap) return cv::Mat(rows, cols, type, data, image.step);
+  cv::Mat copy(rows, cols, type);
+  const size_t row_bytes = static_cast<size_t>(cols) * elem;
+  for (int r = 0; r < rows; ++r) {
+    const uchar* in = data + static_cast<size_t>(r) * image.step;
+    uchar* out = copy.ptr(r);
+    if (!swap) {
+      std::memcpy(out, in, row_bytes);
+      continue;
+    }
+    for (size_t b = 0; b < row_bytes; b += elem1) std::reverse_copy(in + b, in + b + elem1, out + b);
+  }
+  return copy;
+}
+
+int cvTypeOf(const std::string& encoding) {
+  if (encoding == enc::MONO8) return CV_8UC1;
+  if (encoding == enc::RGB8 || encoding == enc::BGR8) return CV_8UC3;
+  if (encoding == enc::RGBA8 || encoding == enc::BGRA8) return CV_8UC4;
+  if (encoding == enc::TYPE_16UC1) return CV_16UC1;
+  return CV_32FC1;  // TYPE_32FC1: the callers have checked the encodings
+}
+
 }  // namespace
 
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
@@ -72,15 +104,10 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
   checkBuffer(depth, "depth");
   const bool rgb_order = color.encoding == enc::RGB8 || color.encoding == enc::RGBA8;
   try {
-    // toCvShare needs a shared pointer; aliasing ones that own nothing keep
-    // the caller's messages where they are (no copy of the pixels).
-    const sensor_msgs::ImageConstPtr color_ptr(boost::shared_ptr<void>(), &color);
-    const sensor_msgs::ImageConstPtr depth_ptr(boost::shared_ptr<void>(), &depth);
-    const cv::Mat color_mat = cv_bridge::toCvShare(color_ptr)->image;
-    const cv::Mat depth_mat = cv_bridge::toCvShare(depth_ptr)->image;
-    return RgbdFrame(color_mat, depth_mat, intrinsicsFromCameraInfo(info), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
-  } catch (const cv_bridge::Exception& e) {
-    throw InputError(std::string("image message is malformed: ") + e.what());
+    return RgbdFrame(imageOf(color, cvTypeOf(color.encoding)), imageOf(depth, cvTypeOf(depth.encoding)),
+                     intrinsicsFromCameraInfo(info), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
+  } catch (const cv::Exception& e) {  // none is known; a node must not die of one
+    throw InputError(std::string("image message cannot be read: ") + e.err);
   }
 }
 

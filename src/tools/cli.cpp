@@ -1,8 +1,12 @@
 #include "cli.hpp"
 
+#include "risas/errors.hpp"
 #include "risas/io.hpp"
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -102,6 +106,19 @@ Intrinsics intrinsicsFrom(const Args& args) {
 
 RisasParams paramsFrom(const Args& args) {
   return args.has("params") ? RisasParams::load(args.get("params")) : RisasParams();
+}
+
+void requireWritable(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path file = fs::absolute(path, ec);
+  const fs::path dir = file.parent_path();
+  if (!fs::is_directory(dir, ec)) throw InputError("cannot write " + path + ": no folder " + dir.string());
+  if (fs::is_directory(file, ec)) throw InputError("cannot write " + path + ": it is a folder");
+  const bool exists = fs::exists(file, ec);
+  if (::access((exists ? file : dir).c_str(), W_OK) != 0) {
+    throw InputError("cannot write " + path + ": " + (exists ? "the file" : "its folder") + " is not writable");
+  }
 }
 
 int runTool(const char* tool, const std::function<int()>& body) {

@@ -48,6 +48,11 @@ RisasParams paramsFrom(const Args& args);
 std::vector<Option> intrinsicsOptions();
 Option paramsOption();
 
+// InputError unless `path` can be written: its folder exists and is
+// writable, and the file, if there, is too. Tools check their outputs with
+// it before the work, not after.
+void requireWritable(const std::string& path);
+
 // Runs the body; prints errors as "<tool>: error: ..." and returns the exit
 // code: 0 ok, 1 failure (bad input, unreadable files), 2 wrong usage.
 int runTool(const char* tool, const std::function<int()>& body);

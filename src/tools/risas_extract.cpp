@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
                                 "Detects and describes RISAS features of one registered RGB-D frame.",
                                 options);
     const std::string out = args.get("out");
+    risas::cli::requireWritable(out);
     const risas::RgbdFrame frame = risas::loadRgbdFrame(args.get("rgb"), args.get("depth"), risas::cli::intrinsicsFrom(args));
     const auto risas = risas::Risas::create(risas::cli::paramsFrom(args));
 

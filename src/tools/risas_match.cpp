@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     params.match.ratio = args.getDouble("ratio", params.match.ratio);
     params.match.cross_check = params.match.cross_check || args.has("cross-check");
     params.validate();
+    if (args.has("overlay")) risas::cli::requireWritable(args.get("overlay"));
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const risas::RgbdFrame frame1 = risas::loadRgbdFrame(args.get("rgb1"), args.get("depth1"), K);
     const risas::RgbdFrame frame2 = risas::loadRgbdFrame(args.get("rgb2"), args.get("depth2"), K);

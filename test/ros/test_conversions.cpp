@@ -72,6 +72,51 @@ TEST(Conversions, AcceptsEveryDocumentedEncoding) {
   EXPECT_LT(cv::norm(diff, cv::NORM_INF, reference.depth() == reference.depth()), 1e-6);
 }
 
+// The image with each row padded to `step` bytes, its bytes reversed per
+// channel value when big_endian.
+sensor_msgs::Image repacked(const sensor_msgs::Image& image, uint32_t step, bool big_endian) {
+  sensor_msgs::Image out = image;
+  const size_t row = image.width * static_cast<size_t>(enc::numChannels(image.encoding) * enc::bitDepth(image.encoding) / 8);
+  const size_t value = enc::bitDepth(image.encoding) / 8;
+  out.step = step;
+  out.is_bigendian = big_endian;
+  out.data.assign(static_cast<size_t>(step) * image.height, 0xAB);
+  for (uint32_t r = 0; r < image.height; ++r) {
+    const uint8_t* in = &image.data[r * image.step];
+    uint8_t* to = &out.data[r * step];
+    for (size_t b = 0; b < row; b += value) {
+      for (size_t k = 0; k < value; ++k) to[b + k] = in[b + (big_endian ? value - 1 - k : k)];
+    }
+  }
+  return out;
+}
+
+void expectSameFrame(const RgbdFrame& a, const RgbdFrame& b) {
+  EXPECT_EQ(cv::norm(a.gray(), b.gray(), cv::NORM_INF), 0.0);
+  cv::Mat da = a.depth().clone(), db = b.depth().clone();
+  cv::patchNaNs(da, -1.0), cv::patchNaNs(db, -1.0);
+  EXPECT_EQ(cv::norm(da, db, cv::NORM_INF), 0.0);
+}
+
+TEST(Conversions, OddStepsAndBigEndianDepthAreReadAsThePackedImage) {
+  // Issue 20: a step that is no multiple of the pixel size made cv::Mat
+  // throw, uncaught, and took the nodelet manager down; a big-endian 16UC1
+  // was misreported as CV_8UC2.
+  const Messages m = render();
+  const RgbdFrame reference = frameFromMessages(m.rgb, m.depth, m.info);
+  expectSameFrame(reference, frameFromMessages(m.rgb, repacked(m.depth, 2 * 640 + 1, false), m.info));
+  expectSameFrame(reference, frameFromMessages(repacked(m.rgb, 3 * 640 + 5, false), m.depth, m.info));
+  expectSameFrame(reference, frameFromMessages(m.rgb, repacked(m.depth, 2 * 640, true), m.info));
+  expectSameFrame(reference, frameFromMessages(m.rgb, repacked(m.depth, 2 * 640 + 3, true), m.info));
+
+  cv::Mat metres;
+  cv_bridge::toCvCopy(m.depth)->image.convertTo(metres, CV_32F, 0.001);
+  const sensor_msgs::Image depth32 = *cv_bridge::CvImage(m.depth.header, enc::TYPE_32FC1, metres).toImageMsg();
+  const RgbdFrame reference32 = frameFromMessages(m.rgb, depth32, m.info);
+  expectSameFrame(reference32, frameFromMessages(m.rgb, repacked(depth32, 4 * 640 + 2, false), m.info));
+  expectSameFrame(reference32, frameFromMessages(m.rgb, repacked(depth32, 4 * 640 + 2, true), m.info));
+}
+
 TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   const Messages good = render();
   Messages m = good;

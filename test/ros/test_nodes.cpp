@@ -286,11 +286,47 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   send(f);
   EXPECT_TRUE(logged("malformed"));
 
+  // Issue 20: absurd intrinsics and depth are refused, not turned into
+  // empty arrays.
+  f = goodFrame(7.1);
+  f.info.K[0] = f.info.K[4] = 1e9;
+  send(f);
+  EXPECT_TRUE(logged("focal lengths"));
+  f = goodFrame(7.2);
+  f.depth = *cv_bridge::CvImage(f.depth.header, enc::TYPE_32FC1, cv::Mat(480, 640, CV_32FC1, cv::Scalar(1e30f)))
+                 .toImageMsg();
+  send(f);
+  EXPECT_TRUE(logged("no valid pixel"));
+  // A depth step that is no multiple of the pixel size once aborted the
+  // node (an uncaught cv::Exception); big-endian depth was misnamed. Both
+  // are read now and give features.
+  f = goodFrame(7.3);
+  {
+    sensor_msgs::Image odd = f.depth;
+    odd.step = f.depth.step + 1;
+    odd.data.assign(static_cast<size_t>(odd.step) * odd.height, 0);
+    for (uint32_t r = 0; r < odd.height; ++r) {
+      std::copy_n(&f.depth.data[r * f.depth.step], f.depth.step, &odd.data[r * odd.step]);
+    }
+    f.depth = odd;
+  }
+  send(f);
+  ASSERT_TRUE(keypoints.waitForCount(2, 20.0)) << "a depth image of odd step gave no KeypointArray";
+  f = goodFrame(7.4);
+  f.depth.is_bigendian = 1;
+  for (size_t b = 0; b + 1 < f.depth.data.size(); b += 2) std::swap(f.depth.data[b], f.depth.data[b + 1]);
+  send(f);
+  ASSERT_TRUE(keypoints.waitForCount(3, 20.0)) << "big-endian depth gave no KeypointArray";
+
   send(goodFrame(8.0));
-  ASSERT_TRUE(keypoints.waitForCount(2, 20.0)) << "risas stopped publishing after bad input";
+  ASSERT_TRUE(keypoints.waitForCount(4, 20.0)) << "risas stopped publishing after bad input";
   const auto arrays = keypoints.messages();
-  ASSERT_EQ(arrays.size(), 2u) << "a bad frame produced features";
-  EXPECT_EQ(arrays[1]->header.stamp, ros::Time(8.0));
+  ASSERT_EQ(arrays.size(), 4u) << "a bad frame produced features";
+  EXPECT_EQ(arrays[1]->header.stamp, ros::Time(7.3));
+  EXPECT_EQ(arrays[2]->header.stamp, ros::Time(7.4));
+  EXPECT_EQ(arrays[1]->keypoints.size(), arrays[0]->keypoints.size()) << "the odd-step depth was read differently";
+  EXPECT_EQ(arrays[2]->keypoints.size(), arrays[0]->keypoints.size()) << "the big-endian depth was read differently";
+  EXPECT_EQ(arrays[3]->header.stamp, ros::Time(8.0));
 }
 
 // --------------------------------------------------------------------- Bag --

@@ -1,0 +1,292 @@
+// Fuzz driver for the core's entry points: RgbdFrame, Risas::extract /
+// detect / compute, matchDescriptors, estimateRigidMotion and RisasParams
+// read from text. One input drives one case of each.
+//
+// Invariants it holds the core to (a breach aborts, and so does any
+// sanitizer report):
+//   - the only exception is risas::InputError (for text that is no
+//     FileStorage at all, OpenCV's cv::Exception from its parser, which
+//     RisasParams::load turns into std::runtime_error);
+//   - keypoints lie inside the image; descriptors have one row per keypoint,
+//     descriptorSize() columns, finite values and unit length; geometry has
+//     one entry per keypoint with a finite point in front of the camera and
+//     a unit normal;
+//   - matches index existing rows; a motion's inlier mask has one entry per
+//     match and counts num_inliers, its transform is finite.
+//
+// Built two ways (test/fuzz/CMakeLists.txt): with clang and -fsanitize=fuzzer
+// as a libFuzzer target, and everywhere as `risas_fuzz_loop`, a seeded,
+// time-bounded loop over random inputs (fuzz_loop_main.cpp).
+#include "risas/errors.hpp"
+#include "risas/matcher.hpp"
+#include "risas/motion.hpp"
+#include "risas/params.hpp"
+#include "risas/risas.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Reads typed values off the input, zeros once it runs out.
+class Bytes {
+ public:
+  Bytes(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+  uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  int in(int lo, int hi) { return lo + static_cast<int>(word() % static_cast<uint32_t>(hi - lo + 1)); }
+  uint32_t word() {
+    uint32_t w = 0;
+    for (int i = 0; i < 4; ++i) w = w << 8 | byte();
+    return w;
+  }
+  // Mostly ordinary values, now and then the extremes that broke things.
+  double number(double lo, double hi) {
+    switch (byte() % 64) {
+      case 0: return std::numeric_limits<double>::quiet_NaN();
+      case 1: return std::numeric_limits<double>::infinity();
+      case 2: return -1.0;
+      case 3: return 0.0;
+      case 4: return 1e300;
+      case 5: return 1e-300;
+      default: return lo + (hi - lo) * (word() / 4294967295.0);
+    }
+  }
+  size_t left() const { return size_ - pos_; }
+  std::string rest() { return std::string(reinterpret_cast<const char*>(data_ + pos_), left()); }
+
+ private:
+  const uint8_t* data_;
+  size_t size_, pos_ = 0;
+};
+
+[[noreturn]] void breach(const char* what) {
+  std::fprintf(stderr, "fuzz invariant broken: %s\n", what);
+  std::abort();
+}
+void require(bool ok, const char* what) {
+  if (!ok) breach(what);
+}
+
+// An image of `type`: raw bytes, a pattern, or (for depth types) a scene:
+// a tilted plane with a box standing out of it, holes where the input says.
+cv::Mat image(Bytes& in, cv::Size size, int type) {
+  cv::Mat m(size, type);
+  const int style = in.byte() % 4;
+  if (style == 3 && (type == CV_16UC1 || type == CV_32FC1)) {
+    const float base = 0.4f + in.byte() * 0.01f;
+    const float du = (in.byte() - 128) * 1e-4f;
+    const float dv = (in.byte() - 128) * 1e-4f;
+    cv::Rect box;
+    box.x = in.in(0, size.width), box.y = in.in(0, size.height), box.width = in.in(2, 30), box.height = in.in(2, 30);
+    const int holes = in.byte();
+    for (int r = 0; r < m.rows; ++r) {
+      for (int c = 0; c < m.cols; ++c) {
+        float z = base + du * c + dv * r - (box.contains({c, r}) ? 0.15f : 0.0f);
+        if (holes && (r * 31 + c * 17) % 256 < holes / 8) z = 0.0f;
+        if (type == CV_16UC1) m.at<uint16_t>(r, c) = static_cast<uint16_t>(z * 1000.0f);
+        else m.at<float>(r, c) = z > 0.0f ? z : NAN;
+      }
+    }
+    return m;
+  }
+  uint8_t* p = m.data;
+  const size_t total = m.total() * m.elemSize();
+  for (size_t i = 0; i < total; ++i) p[i] = style == 0 ? in.byte() : static_cast<uint8_t>((i % 13) * 19 * style + i / 97);
+  if (type == CV_32FC1 && style != 0) {  // plausible metres, with NaN and inf holes
+    for (int r = 0; r < m.rows; ++r) {
+      for (int c = 0; c < m.cols; ++c) {
+        const uint8_t b = in.byte();
+        m.at<float>(r, c) = b == 0 ? NAN : b == 1 ? INFINITY : 0.3f + b * 0.01f;
+      }
+    }
+  }
+  return m;
+}
+
+risas::RisasParams params(Bytes& in) {
+  risas::RisasParams p;
+  if (in.byte() % 2) return p;
+  p.detector.tau = in.number(0.0, 1.0);
+  p.detector.max_keypoints = in.in(1, 300);
+  p.detector.border = in.in(0, 12);
+  p.descriptor.n_pie = in.in(1, 16);
+  p.descriptor.n_bin = in.in(1, 16);
+  p.descriptor.n_vec = in.in(1, 8);
+  p.descriptor.rho_threshold = in.number(0.0, 1.0);
+  p.descriptor.support_radius = in.number(0.0, 0.2);
+  p.descriptor.shape_orientation = in.byte() % 2;
+  p.geometry.normal_stride = in.in(1, 4);
+  p.geometry.normal_radius = in.in(1, 8);
+  return p;
+}
+
+void checkFeatures(const risas::RgbdFrame& frame, const std::vector<cv::KeyPoint>& keypoints,
+                   const cv::Mat& descriptors, const std::vector<risas::KeypointGeometry>& geometry, int dimension) {
+  require(descriptors.rows == static_cast<int>(keypoints.size()), "one descriptor row per keypoint");
+  require(keypoints.empty() || (descriptors.cols == dimension && descriptors.type() == CV_32F), "descriptor shape");
+  require(geometry.size() == keypoints.size(), "one geometry per keypoint");
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const cv::Point2f p = keypoints[i].pt;
+    require(p.x >= 0 && p.y >= 0 && p.x <= frame.size().width - 1 && p.y <= frame.size().height - 1,
+            "keypoint inside the image");
+    double norm = 0.0;
+    for (int d = 0; d < descriptors.cols; ++d) {
+      const float v = descriptors.at<float>(static_cast<int>(i), d);
+      require(std::isfinite(v) && v >= 0.0f, "finite, non-negative descriptor");
+      norm += static_cast<double>(v) * v;
+    }
+    require(std::abs(norm - 1.0) < 1e-4, "unit-length descriptor");
+    const risas::KeypointGeometry& g = geometry[i];
+    require(std::isfinite(g.point.x) && std::isfinite(g.point.y) && g.point.z > 0.0f, "finite point in front");
+    require(std::abs(cv::norm(g.normal) - 1.0) < 1e-3, "unit normal");
+  }
+}
+
+void fuzzFrame(Bytes& in) {
+  static const int colour_types[] = {CV_8UC1, CV_8UC3, CV_8UC4, CV_16UC1, CV_8UC2};
+  static const int depth_types[] = {CV_16UC1, CV_32FC1, CV_8UC1, CV_16UC3};
+  // Most cases a frame the core accepts, so that the stages behind the
+  // validation are reached; the rest anything at all.
+  const bool plausible = in.byte() % 8 != 0;
+  cv::Size size;
+  size.width = in.in(0, 72), size.height = in.in(0, 56);
+  cv::Size depth_size = size;
+  int colour_type = colour_types[in.byte() % 5], depth_type = depth_types[in.byte() % 4];
+  // One value per statement throughout: a call's arguments are evaluated in
+  // the compiler's order, and an input must mean the same to every build.
+  risas::Intrinsics K;
+  K.fx = in.number(1.0, 200.0), K.fy = in.number(1.0, 200.0), K.cx = in.number(-5.0, 80.0), K.cy = in.number(-5.0, 60.0);
+  if (plausible) {
+    size.width = in.in(2, 72), size.height = in.in(2, 56), depth_size = size;
+    colour_type = colour_types[in.byte() % 3], depth_type = depth_types[in.byte() % 2];
+    K.fx = in.in(20, 150), K.fy = in.in(20, 150), K.cx = in.in(0, size.width), K.cy = in.in(0, size.height);
+  } else if (in.byte() % 8 == 0) {
+    depth_size.width = in.in(0, 72), depth_size.height = in.in(0, 56);
+  }
+  const cv::Mat colour = image(in, size, colour_type);
+  const cv::Mat depth = image(in, depth_size, depth_type);
+  risas::RgbdFrame frame;
+  try {
+    frame = risas::RgbdFrame(colour, depth, K, in.byte() % 2 ? risas::ColorOrder::RGB : risas::ColorOrder::BGR);
+  } catch (const risas::InputError&) {
+    return;
+  }
+  cv::Ptr<risas::Risas> risas;
+  try {
+    risas = risas::Risas::create(params(in));
+  } catch (const risas::InputError&) {
+    return;
+  }
+  cv::Mat mask;
+  if (in.byte() % 4 == 0) mask = image(in, frame.size(), CV_8UC1);
+  const risas::Features f = risas->extract(frame, mask);
+  checkFeatures(frame, f.keypoints, f.descriptors, f.geometry, risas->descriptorSize());
+
+  // Given keypoints anywhere, also off the image and not finite.
+  std::vector<cv::KeyPoint> keypoints;
+  for (int i = in.in(0, 12); i > 0; --i) {
+    cv::KeyPoint k;
+    k.pt.x = static_cast<float>(in.number(-10.0, 80.0));
+    k.pt.y = static_cast<float>(in.number(-10.0, 60.0));
+    k.size = static_cast<float>(in.number(0.0, 40.0));
+    keypoints.push_back(k);
+  }
+  cv::Mat descriptors;
+  std::vector<risas::KeypointGeometry> geometry;
+  risas->compute(frame, keypoints, descriptors, &geometry);
+  checkFeatures(frame, keypoints, descriptors, geometry, risas->descriptorSize());
+}
+
+void fuzzMatchingAndMotion(Bytes& in) {
+  const int rows_q = in.in(0, 20);
+  const int rows_t = in.in(0, 20);
+  const int cols = in.in(1, 8);
+  const int cols_t = in.byte() % 8 ? cols : in.in(1, 8);
+  cv::Mat query(rows_q, cols, CV_32F), train(rows_t, cols_t, CV_32F);
+  for (cv::Mat* m : {&query, &train}) {
+    for (int i = 0; i < m->rows * m->cols; ++i) m->at<float>(i / m->cols, i % m->cols) = static_cast<float>(in.number(-1, 1));
+  }
+  std::vector<cv::DMatch> matches;
+  risas::MatchParams match;
+  match.cross_check = in.byte() % 2;
+  try {
+    matches = risas::matchDescriptors(query, train, match);
+    for (const cv::DMatch& m : matches) {
+      require(m.queryIdx >= 0 && m.queryIdx < rows_q && m.trainIdx >= 0 && m.trainIdx < rows_t, "match indices");
+    }
+  } catch (const risas::InputError&) {
+  }
+  std::vector<cv::Point3f> q, t;
+  const auto point = [&in] {
+    cv::Point3f p;
+    p.x = static_cast<float>(in.number(-2, 2)), p.y = static_cast<float>(in.number(-2, 2));
+    p.z = static_cast<float>(in.number(0, 4));
+    return p;
+  };
+  for (int i = in.in(0, 30); i > 0; --i) {
+    q.push_back(point());
+    t.push_back(point());
+  }
+  matches.clear();
+  for (int i = in.in(0, 40); i > 0; --i) {
+    cv::DMatch m;
+    m.queryIdx = in.in(-1, 31), m.trainIdx = in.in(-1, 31);
+    matches.push_back(m);
+  }
+  risas::MotionParams motion;
+  motion.confidence = in.byte() % 4 ? 0.999 : 1.0;
+  motion.max_iterations = in.in(1, 300);
+  try {
+    const risas::MotionEstimate m = risas::estimateRigidMotion(q, t, matches, motion);
+    require(m.inliers.size() == matches.size(), "one inlier flag per match");
+    int count = 0;
+    for (char c : m.inliers) count += c != 0;
+    require(!m.valid || count == m.num_inliers, "inliers counted");
+    require(!m.valid || m.train_T_query.matrix().allFinite(), "finite motion");
+  } catch (const risas::InputError&) {
+  }
+}
+
+void fuzzParams(Bytes& in) {
+  const std::string text = "%YAML:1.0\n" + in.rest();
+  cv::FileStorage fs;
+  try {
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const cv::Exception&) {
+    return;  // not FileStorage text at all: OpenCV's parser says so
+  }
+  if (!fs.isOpened()) return;
+  risas::RisasParams p;
+  try {
+    p.read(fs.root());
+    p.validate();
+  } catch (const risas::InputError&) {
+  } catch (const cv::Exception&) {
+    // FileStorage parses lazily: a malformed node can throw when it is read.
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  Bytes in(data, size);
+  try {
+    switch (in.byte() % 3) {
+      case 0: fuzzFrame(in); break;
+      case 1: fuzzMatchingAndMotion(in); break;
+      default: fuzzParams(in); break;
+    }
+  } catch (const risas::InputError&) {
+    breach("an InputError escaped a step that should have caught it");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "undocumented exception: %s\n", e.what());
+    std::abort();
+  }
+  return 0;
+}
