@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # Reproduces docs/evaluation.md: every method on every sequence of the
-# dataset, then the paper's two parameter studies. Usage:
-#   scripts/evaluate.sh [DATASET_ROOT] [OUT_DIR]
-# (defaults: ../shared/data/ManipulatorsDataset next to the repository, and
-# build/evaluation). About 15 minutes on 2 cores.
+# dataset, then the paper's two parameter studies, then every method on the
+# three TUM-layout recordings (pose recovery). Usage:
+#   scripts/evaluate.sh [DATASET_ROOT] [OUT_DIR] [TUM_ROOT]
+# (defaults: ../shared/data/ManipulatorsDataset and ../shared/data/tum next
+# to the repository, and build/evaluation). About 35 minutes on 2 cores.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
 source "$(dirname "$0")/env.sh"
 
 data="${1:-$RISAS_ROOT/../shared/data/ManipulatorsDataset}"
 out="${2:-$RISAS_ROOT/build/evaluation}"
+tum="${3:-$RISAS_ROOT/../shared/data/tum}"
 [ -d "$data" ] || { echo "no dataset at $data" >&2; exit 1; }
 mkdir -p "$RISAS_WS" "$out"
 risas_build > "$RISAS_WS/build.log" 2>&1 || { tail -30 "$RISAS_WS/build.log"; exit 1; }
@@ -21,3 +23,16 @@ echo "== study: n_pie x n_bin x n_vec -> $out/study_bins"
 "$evaluate" --data "$data" --study bins --out "$out/study_bins" | tail -20
 echo "== study: tau -> $out/study_tau"
 "$evaluate" --data "$data" --study tau --out "$out/study_tau" | tail -12
+
+# The recordings' intrinsics and gaps as ../shared/data/tum/README.md gives
+# them; the kitchen's pairs start every 5th frame (300 frames, 30 Hz).
+if [ -d "$tum" ]; then
+  echo "== TUM fr1_xyz, gaps 3 and 6 -> $out/tum_fr1_xyz"
+  "$evaluate" --tum "$tum/fr1_xyz" --fx 517.3 --fy 516.5 --cx 318.6 --cy 255.3 --gaps 3,6 --out "$out/tum_fr1_xyz" | tail -16
+  echo "== TUM fr3_cabinet_keyframes, gaps 1 and 2 -> $out/tum_fr3_cabinet"
+  "$evaluate" --tum "$tum/fr3_cabinet_keyframes" --fx 535.4 --fy 539.2 --cx 320.1 --cy 247.6 --gaps 1,2 \
+    --out "$out/tum_fr3_cabinet" | tail -16
+  echo "== 7-Scenes redkitchen, gaps 15 and 30 -> $out/tum_7scenes_redkitchen"
+  "$evaluate" --tum "$tum/7scenes_redkitchen" --fx 585 --fy 585 --cx 320 --cy 240 --gaps 15,30 --pair-stride 5 \
+    --out "$out/tum_7scenes_redkitchen" | tail -16
+fi

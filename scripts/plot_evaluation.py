@@ -2,6 +2,8 @@
 """Plots what risas_evaluate wrote into DIR (curves.csv, summary.csv, scale.csv):
   pr_<scene>_<sequence>.png  precision-recall curves, one per method, as the paper's figures
   scale_<scene>.png          correct-match percentage at ratio 0.8 against the scale step
+  pose_<scene>.png           pose recovered within 5 deg / 5 cm per sequence and method (bars),
+                             2 deg / 2 cm hatched inside them
   study.png                  mean PR-AUC of each RISAS variant (parameter studies)
 Usage: plot_evaluation.py DIR"""
 import csv
@@ -59,6 +61,32 @@ def main(out):
         ax.legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(out / f"scale_{scene}.png", dpi=110)
+        plt.close(fig)
+
+    success = defaultdict(dict)
+    for r in rows(out / "summary.csv"):
+        if "success_5deg_5cm" in r:
+            success[r["scene"]][(r["sequence"], r["method"])] = (float(r["success_5deg_5cm"]),
+                                                                 float(r["success_2deg_2cm"]))
+    for scene, by_key in success.items():
+        sequences = list(dict.fromkeys(q for q, _ in by_key))
+        present = [m for m in methods if any((q, m) in by_key for q in sequences)]
+        width = 0.8 / max(1, len(present))
+        fig, ax = plt.subplots(figsize=(max(5.2, 1.3 * len(sequences) + 2), 4.2))
+        for k, method in enumerate(present):
+            xs = [i + (k - (len(present) - 1) / 2) * width for i in range(len(sequences))]
+            loose = [100 * by_key.get((q, method), (0, 0))[0] for q in sequences]
+            tight = [100 * by_key.get((q, method), (0, 0))[1] for q in sequences]
+            bars = ax.bar(xs, loose, width, label=method)
+            ax.bar(xs, tight, width * 0.6, color=bars[0].get_facecolor(), hatch="///", edgecolor="white")
+        ax.set_xticks(range(len(sequences)), sequences)
+        ax.set(ylabel="pairs with the pose recovered (%)", ylim=(0, 105),
+               title=f"{scene}: pose within 5 deg / 5 cm (hatched: 2 deg / 2 cm)")
+        ax.title.set_fontsize(9)
+        ax.grid(alpha=0.3, axis="y")
+        ax.legend(fontsize=7, ncol=2)
+        fig.tight_layout()
+        fig.savefig(out / f"pose_{scene}.png", dpi=110)
         plt.close(fig)
 
     variants = [m for m in methods if m.startswith("RISAS(")]

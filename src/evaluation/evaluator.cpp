@@ -43,7 +43,9 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
 
 Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   const RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
-  return {images.bgr, RgbdFrame(images.bgr, images.depth_mm, intrinsics_)};
+  cv::Mat depth = images.depth_mm;
+  if (paths.depth_units_per_metre != 1000.0) images.depth_mm.convertTo(depth, CV_32F, 1.0 / paths.depth_units_per_metre);
+  return {images.bgr, RgbdFrame(images.bgr, depth, intrinsics_)};
 }
 
 std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
@@ -84,6 +86,7 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     const std::vector<PrPoint> curve = prCurve(r.candidates, r.positives);
     r.auc = prAuc(curve);
     r.at_ratio = atThreshold(curve, report_ratio_);
+    r.pose = recoverPose(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query);
     results.push_back(std::move(r));
   }
   return results;

@@ -29,8 +29,10 @@ std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv
     if (pair.size() < 2) continue;
     const double d1 = pair[0].distance, d2 = pair[1].distance;
     const double ratio = d2 > 0.0 ? d1 / d2 : 1.0;  // two identical neighbours: undecidable
-    candidates.push_back({ratio, isCorrect(reference_points[static_cast<size_t>(pair[0].trainIdx)],
-                                           query_points[static_cast<size_t>(pair[0].queryIdx)], ref_T_query, d_min)});
+    candidates.push_back({ratio,
+                          isCorrect(reference_points[static_cast<size_t>(pair[0].trainIdx)],
+                                    query_points[static_cast<size_t>(pair[0].queryIdx)], ref_T_query, d_min),
+                          pair[0].queryIdx, pair[0].trainIdx});
   }
   return candidates;
 }

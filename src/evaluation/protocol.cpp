@@ -2,6 +2,7 @@
 
 #include "risas/errors.hpp"
 #include "risas/io.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -125,6 +126,33 @@ cv::Point2f unrotatePixel(const cv::Point2f& pixel, double rotation_deg, const c
   const double a = rotation_deg * CV_PI / 180.0, c = std::cos(a), s = std::sin(a);
   const double dx = pixel.x - centre.x, dy = pixel.y - centre.y;
   return {static_cast<float>(centre.x + c * dx - s * dy), static_cast<float>(centre.y + s * dx + c * dy)};
+}
+
+std::vector<Pair> listTumPairs(const std::string& dir, const std::vector<int>& gaps, int stride) {
+  if (stride < 1) throw InputError("the pair stride must be positive, not " + std::to_string(stride));
+  const TumSequence sequence = readTumSequence(dir);
+  const std::string scene = fs::path(dir).lexically_normal().filename().empty()
+                                ? fs::path(dir).lexically_normal().parent_path().filename().string()
+                                : fs::path(dir).lexically_normal().filename().string();
+  std::vector<Pair> pairs;
+  const auto& frames = sequence.frames;
+  for (int gap : gaps) {
+    if (gap < 1) throw InputError("a frame gap must be positive, not " + std::to_string(gap));
+    for (size_t i = 0; i + static_cast<size_t>(gap) < frames.size(); i += static_cast<size_t>(stride)) {
+      const TumFrame &a = frames[i], &b = frames[i + static_cast<size_t>(gap)];
+      if (!a.world_T_camera || !b.world_T_camera) continue;
+      Pair p;
+      p.scene = scene;
+      p.sequence = "gap" + std::to_string(gap);
+      p.label = std::to_string(i) + "+" + std::to_string(gap);
+      p.step = gap;
+      p.reference = {a.rgb, a.depth, kTumDepthUnitsPerMetre};
+      p.query = {b.rgb, b.depth, kTumDepthUnitsPerMetre};
+      p.ref_T_query = a.world_T_camera->inverse() * *b.world_T_camera;
+      pairs.push_back(std::move(p));
+    }
+  }
+  return pairs;
 }
 
 }  // namespace risas::eval

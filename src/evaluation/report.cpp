@@ -23,6 +23,39 @@ struct Group {
 
 using Key = std::tuple<std::string, std::string, std::string>;  // scene, sequence, method
 
+double success5(const PairResult& r) { return r.pose.within(5.0, 0.05) ? 1.0 : 0.0; }
+double success2(const PairResult& r) { return r.pose.within(2.0, 0.02) ? 1.0 : 0.0; }
+double inliers(const PairResult& r) { return r.pose.inliers; }
+double correct(const PairResult& r) { return r.at_ratio.correct; }
+
+// Per scene: each method's pose success rates per sequence, and over all
+// the scene's pairs, with mean inliers and correct matches over them.
+void writePoseTable(std::ofstream& md, const std::string& scene, const std::vector<std::string>& present,
+                    const std::vector<std::string>& methods, const std::map<Key, Group>& groups, double report_ratio) {
+  md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm), % of pairs\n\n| method |";
+  for (const std::string& s : present) md << " " << s << " |";
+  md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio << " |\n|---|";
+  for (size_t i = 0; i < present.size() + 3; ++i) md << "---|";
+  md << "\n";
+  for (const std::string& m : methods) {
+    Group all;
+    md << "| " << m << " |";
+    for (const std::string& s : present) {
+      const auto g = groups.find({scene, s, m});
+      if (g == groups.end()) {
+        md << " – |";
+        continue;
+      }
+      all.results.insert(all.results.end(), g->second.results.begin(), g->second.results.end());
+      md << " " << std::setprecision(0) << 100.0 * g->second.mean(success5) << " (" << 100.0 * g->second.mean(success2)
+         << ") |";
+    }
+    md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
+       << all.mean(inliers) << " | " << all.mean(correct) << " |\n";
+  }
+  md << "\n";
+}
+
 std::ofstream openFile(const std::string& dir, const std::string& name) {
   std::ofstream out(std::filesystem::path(dir) / name);
   if (!out) throw InputError("cannot write " + (std::filesystem::path(dir) / name).string());
@@ -49,18 +82,22 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
 
   std::ofstream pairs = openFile(dir, "pairs.csv");
   pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
-           "positives,pr_auc,precision,recall,correct,matches,ms_per_frame\n";
+           "positives,pr_auc,precision,recall,correct,matches,ms_per_frame,pose_estimated,inliers,rotation_error_deg,"
+           "alignment_error_m,success_5deg_5cm,success_2deg_2cm\n";
   for (const PairResult& r : results) {
     pairs << r.pair.scene << "," << r.pair.sequence << "," << r.pair.label << "," << r.pair.step << "," << r.method
           << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
           << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
-          << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << "\n";
+          << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << ","
+          << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
+          << r.pose.error.alignment_m << "," << r.pose.within(5.0, 0.05) << "," << r.pose.within(2.0, 0.02) << "\n";
   }
 
   std::ofstream curves = openFile(dir, "curves.csv");
   curves << "scene,sequence,method,ratio,precision,recall\n";
   std::ofstream summary = openFile(dir, "summary.csv");
-  summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame\n";
+  summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame,"
+             "success_5deg_5cm,success_2deg_2cm,mean_inliers\n";
   for (const auto& [key, group] : groups) {
     const auto& [scene, sequence, method] = key;
     std::vector<Candidate> pooled;
@@ -80,7 +117,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return r.at_ratio.recall; }) << ","
             << group.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); }) << ","
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
-            << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "\n";
+            << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
+            << group.mean(success2) << "," << group.mean(inliers) << "\n";
   }
 
   std::ofstream scale = openFile(dir, "scale.csv");
@@ -138,6 +176,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
          << std::setprecision(1) << ms_sum / n << " |\n";
     }
     md << "\n";
+    writePoseTable(md, scene, present, methods, groups, report_ratio);
   }
 }
 

@@ -67,26 +67,38 @@ int main(int argc, char** argv) {
     for (const std::string& m : risas::eval::methodNames()) all_methods += (all_methods.empty() ? "" : ",") + m;
     std::string all_sequences;
     for (const std::string& s : risas::eval::evaluatedSequences()) all_sequences += (all_sequences.empty() ? "" : ",") + s;
+    std::vector<risas::cli::Option> options = {
+        {"data", "DIR", "dataset root: <scene>/<sequence>/rgb_k.png ..., camera-intrinsics.txt"},
+        {"tum", "DIR", "instead of --data: a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt)"},
+        {"gaps", "LIST", "with --tum: frame gaps d of the pairs (i, i+d) (default: 1)"},
+        {"pair-stride", "N", "with --tum: pairs start at every N-th frame (default: 1)"},
+        {"out", "DIR", "output folder (default: evaluation)"},
+        {"methods", "LIST", "methods to run (default: all of " + all_methods + ")"},
+        {"scenes", "LIST", "scene types (default: texture,geometry)"},
+        {"sequences", "LIST", "sequences (default: " + all_sequences + ")"},
+        {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
+        {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec) or tau"},
+        {"no-plots", "", "do not run scripts/plot_evaluation.py"},
+        risas::cli::paramsOption()};
+    for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
         "               [--pairs LABEL,...] [--study bins|tau] [--params P.yml] [--no-plots]\n"
-        "Frame 1 against frame k of each sequence: NNDR matching, a match correct when its 3D points\n"
-        "agree within 5 cm under the ground truth; PR curves, PR-AUC, and precision, recall and\n"
-        "correct matches at ratio 0.8, per pair, sequence and scene type. Writes pairs.csv,\n"
-        "curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
-        {{"data", "DIR", "dataset root: <scene>/<sequence>/rgb_k.png ..., camera-intrinsics.txt"},
-         {"out", "DIR", "output folder (default: evaluation)"},
-         {"methods", "LIST", "methods to run (default: all of " + all_methods + ")"},
-         {"scenes", "LIST", "scene types (default: texture,geometry)"},
-         {"sequences", "LIST", "sequences (default: " + all_sequences + ")"},
-         {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
-         {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec) or tau"},
-         {"no-plots", "", "do not run scripts/plot_evaluation.py"},
-         risas::cli::paramsOption()});
+        "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
+        "               [--pair-stride N] [--out DIR] [--methods M,...] [--params P.yml] [--no-plots]\n"
+        "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"
+        "agree within 5 cm under the ground truth; PR curves, PR-AUC, precision, recall and\n"
+        "correct matches at ratio 0.8; the rigid motion RANSAC recovers from those matches and its\n"
+        "error (success within 5 deg / 5 cm and 2 deg / 2 cm), per pair, sequence and scene.\n"
+        "Writes pairs.csv, curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
+        options);
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
-    const std::string root = args.get("data"), out = args.get("out", "evaluation");
+    const bool tum = args.has("tum");
+    if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
+    const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
     const risas::RisasParams params = risas::cli::paramsFrom(args);
+    const risas::Intrinsics intrinsics = tum ? risas::cli::intrinsicsFrom(args) : risas::findIntrinsics(root);
 
     std::vector<std::unique_ptr<risas::eval::FeatureMethod>> methods;
     if (args.has("study")) {
@@ -94,8 +106,20 @@ int main(int argc, char** argv) {
     } else {
       for (const std::string& m : split(args.get("methods", all_methods))) methods.push_back(risas::eval::makeMethod(m, params));
     }
-    std::vector<risas::eval::Pair> pairs =
-        risas::eval::listPairs(root, split(args.get("scenes", "texture,geometry")), split(args.get("sequences", all_sequences)));
+    std::vector<risas::eval::Pair> pairs;
+    if (tum) {
+      std::vector<int> gaps;
+      for (const std::string& g : split(args.get("gaps", "1"))) {
+        std::istringstream in(g);
+        int gap = 0;
+        if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
+        gaps.push_back(gap);
+      }
+      pairs = risas::eval::listTumPairs(root, gaps, args.getInt("pair-stride", 1));
+    } else {
+      pairs = risas::eval::listPairs(root, split(args.get("scenes", "texture,geometry")),
+                                     split(args.get("sequences", all_sequences)));
+    }
     if (args.has("pairs")) {
       const std::vector<std::string> wanted = split(args.get("pairs"));
       pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) {
@@ -104,7 +128,7 @@ int main(int argc, char** argv) {
     }
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
-    risas::eval::Evaluator evaluator(std::move(methods), risas::findIntrinsics(root));
+    risas::eval::Evaluator evaluator(std::move(methods), intrinsics);
     std::vector<risas::eval::PairResult> results;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const risas::eval::Pair& pair = pairs[i];
@@ -117,7 +141,7 @@ int main(int argc, char** argv) {
       std::cout << "\n";
     }
     risas::eval::writeReports(out, results, 0.8);
-    std::cout << "\nPR-AUC (mean per sequence); details in " << out << "/summary.csv\n\n";
+    std::cout << "\nPR-AUC (mean per sequence) and pose recovery; details in " << out << "/summary.csv\n\n";
     std::ifstream summary(std::filesystem::path(out) / "summary.md");
     std::cout << summary.rdbuf();
 

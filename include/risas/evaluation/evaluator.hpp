@@ -3,6 +3,7 @@
 
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/metrics.hpp"
+#include "risas/evaluation/pose_recovery.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/intrinsics.hpp"
 #include "risas/rgbd_frame.hpp"
@@ -23,6 +24,7 @@ struct PairResult {
   std::vector<Candidate> candidates;
   double auc = 0.0;
   PrPoint at_ratio;          // precision, recall, correct at the report ratio
+  PoseRecovery pose;         // RANSAC on the matches at the report ratio
   double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
 };
 
@@ -61,9 +63,11 @@ class Evaluator {
 //   pairs.csv     one row per pair and method
 //   curves.csv    per scene, sequence and method: the PR curve of all its pairs pooled
 //   summary.csv   per scene, sequence and method: mean PR-AUC, precision,
-//                 recall and correct matches at the report ratio, ms/frame
-//   summary.md    the same as markdown tables, one per scene type, with the
-//                 best mean PR-AUC of each sequence in bold
+//                 recall and correct matches at the report ratio, pose
+//                 success rates at 5 deg / 5 cm and 2 deg / 2 cm, mean
+//                 inliers, ms/frame
+//   summary.md    per scene type two markdown tables: mean PR-AUC (the best
+//                 of each sequence in bold), and pose recovery
 //   scale.csv     correct-match percentage (correct / matches) per scale step
 void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio);
 

@@ -16,6 +16,7 @@ namespace risas::eval {
 struct Candidate {
   double ratio;
   bool correct;
+  int query = -1, reference = -1;  // the rows matched
 };
 
 // A match (query i -> reference j) is correct when

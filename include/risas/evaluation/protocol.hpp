@@ -16,6 +16,7 @@ namespace risas::eval {
 struct FramePaths {
   std::string rgb;
   std::string depth;
+  double depth_units_per_metre = 1000.0;  // the dataset's millimetres; TUM: 5000
 };
 
 // Reference frame 1 against a query frame. For synthetic_rotate the query is
@@ -42,6 +43,14 @@ const std::vector<std::string>& evaluatedSequences();
 // unreadable.
 std::vector<Pair> listPairs(const std::string& root, const std::vector<std::string>& scenes,
                             const std::vector<std::string>& sequences);
+
+// Pairs (frame i, frame i + gap) of a TUM RGB-D folder (readTumSequence)
+// for each gap, i = 0, stride, 2 stride, ...; both frames need a ground-truth
+// pose, and ref_T_query = world_T_i^-1 world_T_{i+gap}. scene is the
+// folder's name, sequence "gap<d>", label "i+d" (frame indices from 0 in
+// the associated sequence), step the gap. InputError from the reader, or
+// when a gap or the stride is not positive.
+std::vector<Pair> listTumPairs(const std::string& dir, const std::vector<int>& gaps, int stride = 1);
 
 // A keypoint's 3D point: the median of the valid depths in its 3x3
 // neighbourhood, back-projected; NaN when none is valid.

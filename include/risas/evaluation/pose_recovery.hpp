@@ -1,0 +1,48 @@
+// What a visual-odometry user gets from a method's matches: the rigid motion
+// RANSAC recovers from them, against the ground truth. The same RANSAC
+// (risas::estimateRigidMotion with poseRecoveryRansac()) for every method.
+#pragma once
+
+#include "risas/evaluation/metrics.hpp"
+#include "risas/motion.hpp"
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace risas::eval {
+
+struct PoseError {
+  double rotation_deg;  // angle of R_truth^T R_estimate
+  double alignment_m;   // median over the points of |T_estimate p - T_truth p|
+};
+
+// The error of `estimate` against `truth` (both ref_T_query), the alignment
+// over `points` (the query frame's keypoints). Infinite alignment when
+// there are no points.
+PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
+                    const std::vector<cv::Point3f>& points);
+
+struct PoseRecovery {
+  int matches = 0;         // at the ratio, the RANSAC's input
+  bool estimated = false;  // RANSAC found at least min_inliers agreeing
+  int inliers = 0;
+  PoseError error{INFINITY, INFINITY};  // infinite when nothing was estimated
+  bool within(double degrees, double metres) const {
+    return estimated && error.rotation_deg <= degrees && error.alignment_m <= metres;
+  }
+};
+
+// RANSAC of the report: 3 cm inlier distance, a fixed seed, otherwise
+// MotionParams' defaults.
+MotionParams poseRecoveryRansac();
+
+// The candidates with ratio <= `ratio` as matches, their rigid motion by
+// RANSAC, scored against ref_T_query.
+PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
+                         const std::vector<cv::Point3f>& query_points,
+                         const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
+                         const MotionParams& ransac = poseRecoveryRansac());
+
+}  // namespace risas::eval

@@ -1,0 +1,50 @@
+// Sequences in the TUM RGB-D benchmark's layout (Sturm et al., IROS 2012),
+// the format RGB-D odometry is scored on:
+//   rgb.txt, depth.txt   "timestamp filename" lines, '#' lines are comments
+//   groundtruth.txt      "timestamp tx ty tz qx qy qz qw": the colour
+//                        camera's optical frame in the world (optional)
+//   depth/*.png          16-bit, kTumDepthUnitsPerMetre units per metre
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace risas {
+
+constexpr double kTumDepthUnitsPerMetre = 5000.0;
+
+struct TumFrame {
+  double stamp = 0.0;        // the colour image's
+  std::string rgb, depth;    // paths
+  double depth_stamp = 0.0;
+  // world_T_camera at the nearest ground-truth stamp, when one lies within
+  // the association's tolerance.
+  std::optional<Eigen::Isometry3d> world_T_camera;
+};
+
+struct TumSequence {
+  std::vector<TumFrame> frames;  // colour stamps ascending
+  int unmatched_rgb = 0;         // colour images left without a depth image
+  int unmatched_depth = 0;
+  int without_pose = 0;          // frames with no ground truth near them
+};
+
+// Reads the folder: colour and depth paired as the benchmark's associate.py
+// does (closest stamps first, each used once, |difference| < max_difference
+// seconds), each pair given the pose at the nearest ground-truth stamp if it
+// is within max_difference too. groundtruth.txt may be absent (no poses).
+// InputError naming the file and line for a missing rgb.txt or depth.txt, a
+// malformed or non-finite line, a listed image that does not exist, or no
+// pair at all.
+TumSequence readTumSequence(const std::string& dir, double max_difference = 0.02);
+
+// The stamp pairs (index into a, index into b) associate.py would make:
+// candidates with |a - b| < max_difference, closest first, each index used
+// once; sorted by a's index.
+std::vector<std::pair<size_t, size_t>> associateStamps(const std::vector<double>& a, const std::vector<double>& b,
+                                                       double max_difference);
+
+}  // namespace risas

@@ -1,0 +1,170 @@
+#include "risas/tum_sequence.hpp"
+
+#include "risas/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace risas {
+namespace fs = std::filesystem;
+namespace {
+
+struct Line {
+  int number;
+  std::vector<std::string> fields;
+};
+
+// The file's non-comment, non-blank lines split at white space.
+std::vector<Line> readLines(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open " + path.string());
+  std::vector<Line> lines;
+  std::string text;
+  for (int number = 1; std::getline(in, text); ++number) {
+    const size_t first = text.find_first_not_of(" \t\r");
+    if (first == std::string::npos || text[first] == '#') continue;
+    std::istringstream words(text);
+    Line line{number, {}};
+    for (std::string w; words >> w;) line.fields.push_back(w);
+    lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+double number(const fs::path& path, const Line& line, size_t field) {
+  const std::string& text = line.fields[field];
+  size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value)) {
+    throw InputError(path.string() + " line " + std::to_string(line.number) + ": '" + text + "' is not a finite number");
+  }
+  return value;
+}
+
+struct Listed {
+  std::vector<double> stamps;
+  std::vector<std::string> paths;
+};
+
+Listed readList(const fs::path& dir, const char* name) {
+  const fs::path path = dir / name;
+  if (!fs::exists(path)) throw InputError("no " + std::string(name) + " in " + dir.string() + " (a TUM RGB-D folder)");
+  Listed listed;
+  for (const Line& line : readLines(path)) {
+    if (line.fields.size() != 2) {
+      throw InputError(path.string() + " line " + std::to_string(line.number) + ": expected 'timestamp filename'");
+    }
+    const fs::path image = dir / line.fields[1];
+    if (!fs::is_regular_file(image)) {
+      throw InputError(path.string() + " line " + std::to_string(line.number) + ": no file " + image.string());
+    }
+    listed.stamps.push_back(number(path, line, 0));
+    listed.paths.push_back(image.string());
+  }
+  return listed;
+}
+
+}  // namespace
+
+std::vector<std::pair<size_t, size_t>> associateStamps(const std::vector<double>& a, const std::vector<double>& b,
+                                                       double max_difference) {
+  struct Candidate {
+    double difference;
+    size_t i, j;
+  };
+  std::vector<Candidate> candidates;
+  // b sorted by stamp: each a looks only at the b within the tolerance.
+  std::vector<size_t> order(b.size());
+  for (size_t j = 0; j < b.size(); ++j) order[j] = j;
+  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return b[x] < b[y]; });
+  for (size_t i = 0; i < a.size(); ++i) {
+    auto it = std::lower_bound(order.begin(), order.end(), a[i] - max_difference,
+                               [&](size_t j, double v) { return b[j] < v; });
+    for (; it != order.end() && b[*it] < a[i] + max_difference; ++it) {
+      const double d = std::abs(a[i] - b[*it]);
+      if (d < max_difference) candidates.push_back({d, i, *it});
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.difference < y.difference; });
+  std::vector<char> used_a(a.size(), 0), used_b(b.size(), 0);
+  std::vector<std::pair<size_t, size_t>> matches;
+  for (const Candidate& c : candidates) {
+    if (used_a[c.i] || used_b[c.j]) continue;
+    used_a[c.i] = used_b[c.j] = 1;
+    matches.emplace_back(c.i, c.j);
+  }
+  std::sort(matches.begin(), matches.end());
+  return matches;
+}
+
+TumSequence readTumSequence(const std::string& dir_name, double max_difference) {
+  const fs::path dir(dir_name);
+  if (!fs::is_directory(dir)) throw InputError("no folder " + dir_name);
+  const Listed rgb = readList(dir, "rgb.txt"), depth = readList(dir, "depth.txt");
+
+  std::vector<double> pose_stamps;
+  std::vector<Eigen::Isometry3d> poses;
+  const fs::path gt = dir / "groundtruth.txt";
+  if (fs::exists(gt)) {
+    for (const Line& line : readLines(gt)) {
+      if (line.fields.size() != 8) {
+        throw InputError(gt.string() + " line " + std::to_string(line.number) + ": expected 'timestamp tx ty tz qx qy qz qw'");
+      }
+      double v[8];
+      for (size_t f = 0; f < 8; ++f) v[f] = number(gt, line, f);
+      Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+      if (!(q.norm() > 1e-6)) {
+        throw InputError(gt.string() + " line " + std::to_string(line.number) + ": the quaternion is zero");
+      }
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = q.normalized().toRotationMatrix();
+      T.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+      pose_stamps.push_back(v[0]);
+      poses.push_back(T);
+    }
+  }
+  std::vector<size_t> by_stamp(pose_stamps.size());
+  for (size_t k = 0; k < by_stamp.size(); ++k) by_stamp[k] = k;
+  std::sort(by_stamp.begin(), by_stamp.end(), [&](size_t x, size_t y) { return pose_stamps[x] < pose_stamps[y]; });
+
+  TumSequence sequence;
+  const auto pairs = associateStamps(rgb.stamps, depth.stamps, max_difference);
+  sequence.unmatched_rgb = static_cast<int>(rgb.stamps.size() - pairs.size());
+  sequence.unmatched_depth = static_cast<int>(depth.stamps.size() - pairs.size());
+  for (const auto& [i, j] : pairs) {
+    TumFrame f;
+    f.stamp = rgb.stamps[i];
+    f.rgb = rgb.paths[i];
+    f.depth = depth.paths[j];
+    f.depth_stamp = depth.stamps[j];
+    // The nearest ground-truth stamp, on either side.
+    auto it = std::lower_bound(by_stamp.begin(), by_stamp.end(), f.stamp,
+                               [&](size_t k, double v) { return pose_stamps[k] < v; });
+    double best = max_difference;
+    for (auto c : {it, it == by_stamp.begin() ? it : it - 1}) {
+      if (c == by_stamp.end()) continue;
+      const double d = std::abs(pose_stamps[*c] - f.stamp);
+      if (d < best) best = d, f.world_T_camera = poses[*c];
+    }
+    sequence.without_pose += !f.world_T_camera;
+    sequence.frames.push_back(std::move(f));
+  }
+  std::sort(sequence.frames.begin(), sequence.frames.end(),
+            [](const TumFrame& x, const TumFrame& y) { return x.stamp < y.stamp; });
+  if (sequence.frames.empty()) {
+    throw InputError("no colour image in " + dir_name + " has a depth image within " + std::to_string(max_difference) +
+                     " s of it");
+  }
+  return sequence;
+}
+
+}  // namespace risas

@@ -1,0 +1,53 @@
+#include "risas/evaluation/pose_recovery.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace risas::eval {
+
+PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
+                    const std::vector<cv::Point3f>& points) {
+  const Eigen::AngleAxisd difference(truth.linear().transpose() * estimate.linear());
+  PoseError e{difference.angle() * 180.0 / M_PI, INFINITY};
+  std::vector<double> distances;
+  distances.reserve(points.size());
+  for (const cv::Point3f& p : points) {
+    const Eigen::Vector3d v(p.x, p.y, p.z);
+    distances.push_back((estimate * v - truth * v).norm());
+  }
+  if (distances.empty()) return e;
+  const size_t mid = distances.size() / 2;
+  std::nth_element(distances.begin(), distances.begin() + static_cast<long>(mid), distances.end());
+  e.alignment_m = distances[mid];
+  if (distances.size() % 2 == 0) {  // the mean of the middle two
+    e.alignment_m = 0.5 * (e.alignment_m + *std::max_element(distances.begin(), distances.begin() + static_cast<long>(mid)));
+  }
+  return e;
+}
+
+MotionParams poseRecoveryRansac() {
+  MotionParams p;
+  p.inlier_threshold = 0.03;
+  p.seed = 0x5eed;
+  return p;
+}
+
+PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
+                         const std::vector<cv::Point3f>& query_points,
+                         const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
+                         const MotionParams& ransac) {
+  std::vector<cv::DMatch> matches;
+  for (const Candidate& c : candidates) {
+    if (c.ratio <= ratio && c.query >= 0 && c.reference >= 0) matches.emplace_back(c.query, c.reference, 0.0f);
+  }
+  PoseRecovery r;
+  r.matches = static_cast<int>(matches.size());
+  const MotionEstimate m = estimateRigidMotion(query_points, reference_points, matches, ransac);
+  r.estimated = m.valid;
+  if (!m.valid) return r;
+  r.inliers = m.num_inliers;
+  r.error = poseError(m.train_T_query, ref_T_query, query_points);
+  return r;
+}
+
+}  // namespace risas::eval

@@ -1,0 +1,130 @@
+// TUM RGB-D folders (issue 16): parsing, association of colour, depth and
+// ground truth by nearest stamp, the pairs of the evaluation, and clear
+// errors for what is wrong, on small sequences written by the test.
+#include "risas/errors.hpp"
+#include "risas/evaluation/protocol.hpp"
+#include "risas/tum_sequence.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace risas {
+namespace {
+namespace fs = std::filesystem;
+
+class Tum : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("risas_tum_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "rgb");
+    fs::create_directories(dir_ / "depth");
+    // Colour at 10.00, 10.10, 10.20, 10.30, 10.40; depth 5 ms later, but
+    // none near 10.20; ground truth every 10 ms from 9.9 to 10.35 (none
+    // near 10.40). The camera moves 0.1 m along x per 0.1 s.
+    std::string rgb = "# color images\n# timestamp filename\n", depth = "# depth\n\n";
+    for (int k = 0; k < 5; ++k) {
+      const std::string s = stamp(10.0 + 0.1 * k), d = stamp(10.005 + 0.1 * k);
+      touch("rgb/" + s + ".png");
+      rgb += s + " rgb/" + s + ".png\n";
+      if (k == 2) continue;
+      touch("depth/" + d + ".png");
+      depth += d + " depth/" + d + ".png\n";
+    }
+    write("rgb.txt", rgb);
+    write("depth.txt", depth);
+    std::string gt = "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n";
+    for (int k = 0; k <= 45; ++k) {
+      const double t = 9.9 + 0.01 * k;
+      gt += stamp(t) + " " + std::to_string(t - 10.0) + " 0.5 1.0 0 0 0 1\n";
+    }
+    write("groundtruth.txt", gt);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  static std::string stamp(double t) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6f", t);
+    return text;
+  }
+  void touch(const std::string& name) const { std::ofstream(dir_ / name) << "x"; }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+  std::string dir() const { return dir_.string(); }
+  fs::path dir_;
+};
+
+template <class F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no InputError";
+}
+
+TEST_F(Tum, PairsColourAndDepthByNearestStampAndTakesTheNearestPose) {
+  const TumSequence s = readTumSequence(dir());
+  ASSERT_EQ(s.frames.size(), 4u);  // 10.20 has no depth within 0.02 s
+  EXPECT_EQ(s.unmatched_rgb, 1);
+  EXPECT_EQ(s.unmatched_depth, 0);
+  EXPECT_EQ(s.without_pose, 1);  // 10.40: the last ground truth is at 10.35
+  EXPECT_DOUBLE_EQ(s.frames[0].stamp, 10.0);
+  EXPECT_NEAR(s.frames[0].depth_stamp, 10.005, 1e-9);
+  EXPECT_NE(s.frames[2].rgb.find("10.300000.png"), std::string::npos);
+  EXPECT_NE(s.frames[2].depth.find("10.305000.png"), std::string::npos);
+  ASSERT_TRUE(s.frames[1].world_T_camera);
+  EXPECT_NEAR(s.frames[1].world_T_camera->translation().x(), 0.1, 1e-9);
+  EXPECT_NEAR(s.frames[1].world_T_camera->translation().z(), 1.0, 1e-12);
+  EXPECT_FALSE(s.frames[3].world_T_camera);
+}
+
+TEST_F(Tum, AssociationTakesTheClosestStampsFirstAndEachOnce) {
+  // 1.000 is closest to 1.004 and 1.010 to 1.011; 1.020 would also be
+  // near 1.011 but that one is taken.
+  const auto m = associateStamps({1.000, 1.010, 1.020}, {1.011, 1.004}, 0.02);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0], std::make_pair(size_t{0}, size_t{1}));
+  EXPECT_EQ(m[1], std::make_pair(size_t{1}, size_t{0}));
+  EXPECT_TRUE(associateStamps({1.0}, {1.5}, 0.02).empty());
+}
+
+TEST_F(Tum, EvaluationPairsCarryTheRelativeMotion) {
+  const std::vector<eval::Pair> pairs = eval::listTumPairs(dir(), {1, 2});
+  // gap 1: (0,1), (1,2); (2,3) has no pose for 3. gap 2: (0,2).
+  ASSERT_EQ(pairs.size(), 3u);
+  EXPECT_EQ(pairs[0].sequence, "gap1");
+  EXPECT_EQ(pairs[0].label, "0+1");
+  EXPECT_EQ(pairs[2].sequence, "gap2");
+  EXPECT_EQ(pairs[2].scene, dir_.filename().string());
+  EXPECT_DOUBLE_EQ(pairs[0].query.depth_units_per_metre, kTumDepthUnitsPerMetre);
+  // Frame 0 at x = 0, frame 2 (10.30) at x = 0.3: p_ref = p_query + (0.3, 0, 0).
+  EXPECT_NEAR(pairs[2].ref_T_query.translation().x(), 0.3, 1e-9);
+  EXPECT_TRUE(pairs[2].ref_T_query.linear().isIdentity(1e-12));
+  EXPECT_NE(errorOf([&] { eval::listTumPairs(dir(), {0}); }).find("gap must be positive"), std::string::npos);
+}
+
+TEST_F(Tum, MissingAndMalformedFilesAreNamed) {
+  fs::remove(dir_ / "groundtruth.txt");
+  EXPECT_EQ(readTumSequence(dir()).without_pose, 4);  // no ground truth: frames without poses
+  write("groundtruth.txt", "10.0 0 0 0 0 0 0\n");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("groundtruth.txt line 1: expected 'timestamp tx ty tz qx qy qz qw'"),
+            std::string::npos);
+  write("groundtruth.txt", "10.0 0 0 nan 0 0 0 1\n");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("'nan' is not a finite number"), std::string::npos);
+  write("groundtruth.txt", "");
+  write("depth.txt", "# header\n10.005 depth/missing.png\n");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("depth.txt line 2: no file"), std::string::npos);
+  write("depth.txt", "10.005\n");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("depth.txt line 1: expected 'timestamp filename'"), std::string::npos);
+  write("depth.txt", "# nothing\n");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("no colour image"), std::string::npos);
+  fs::remove(dir_ / "rgb.txt");
+  EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("no rgb.txt in"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readTumSequence((dir_ / "nope").string()); }).find("no folder"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace risas
