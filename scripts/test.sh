@@ -17,6 +17,7 @@ results=()
 
 if [[ " $stages " == *" ros "* ]]; then
   echo "== stage ros: catkin package, unit tests and rostests"
+  SECONDS=0
   risas_build
   rm -rf "$RISAS_WS/build/test_results"
   # --force-cmake: after a first configure catkin keeps an empty PYTHONPATH for
@@ -25,6 +26,7 @@ if [[ " $stages " == *" ros "* ]]; then
     { tail -50 "$RISAS_WS/run_tests.log"; exit 1; }
   grep -E "^\[ *(RUN|OK|FAILED|PASSED) |FAILURE|Failure" "$RISAS_WS/run_tests.log" | grep -v "^\[ RUN" || true
   results+=("$RISAS_WS/build/test_results")
+  echo "== stage ros took ${SECONDS} s"
 fi
 
 # plain_stage NAME CXX FLAGS...: configures and builds the ROS-free core, its
@@ -34,6 +36,7 @@ plain_stage() {
   shift 3
   local dir="$plain_root/$name"
   echo "== stage $name: ROS-free core with $cxx $flags"
+  SECONDS=0
   cmake -S "$RISAS_ROOT" -B "$dir" -DRISAS_WITH_ROS=OFF -DCMAKE_CXX_COMPILER="$cxx" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" "$@" > "$dir.configure.log" 2>&1 ||
     { tail -30 "$dir.configure.log"; exit 1; }
@@ -42,6 +45,7 @@ plain_stage() {
     grep -E "Failed|\*\*\*|ERROR|runtime error|invariant" "$dir/ctest.log" | head -40 || true
   tail -3 "$dir/ctest.log"
   results+=("$dir/junit.xml")
+  echo "== stage $name took ${SECONDS} s"
 }
 mkdir -p "$plain_root"
 

@@ -23,6 +23,7 @@
 #include "risas/params.hpp"
 #include "risas/risas.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -89,7 +90,7 @@ cv::Mat image(Bytes& in, cv::Size size, int type) {
       for (int c = 0; c < m.cols; ++c) {
         float z = base + du * c + dv * r - (box.contains({c, r}) ? 0.15f : 0.0f);
         if (holes && (r * 31 + c * 17) % 256 < holes / 8) z = 0.0f;
-        if (type == CV_16UC1) m.at<uint16_t>(r, c) = static_cast<uint16_t>(z * 1000.0f);
+        if (type == CV_16UC1) m.at<uint16_t>(r, c) = static_cast<uint16_t>(std::clamp(z * 1000.0f, 0.0f, 65535.0f));
         else m.at<float>(r, c) = z > 0.0f ? z : NAN;
       }
     }
