@@ -49,7 +49,17 @@ TEST(Matcher, EdgeCases) {
   EXPECT_TRUE(matchDescriptors(rows({{1, 0}}), cv::Mat()).empty());
   EXPECT_EQ(matchDescriptors(rows({{1, 0}}), rows({{0, 1}})).size(), 1u);  // no second neighbour
   EXPECT_THROW(matchDescriptors(rows({{1, 0}}), rows({{1, 0, 0}})), InputError);
-  EXPECT_THROW(matchDescriptors(cv::Mat(1, 2, CV_8U), cv::Mat(1, 2, CV_8U)), InputError);
+  EXPECT_THROW(matchDescriptors(cv::Mat(1, 2, CV_16S), cv::Mat(1, 2, CV_16S)), InputError);
+  EXPECT_THROW(matchDescriptors(cv::Mat(1, 2, CV_8U), cv::Mat(1, 2, CV_32F)), InputError);
+  // Binary descriptors by Hamming distance: 0x0F is 4 bits from 0x00 and 0 from itself.
+  const cv::Mat binary_train = (cv::Mat_<uchar>(2, 1) << 0x00, 0xFF), binary_query = (cv::Mat_<uchar>(1, 1) << 0x0F);
+  const auto binary = matchDescriptors(binary_query, binary_train, MatchParams{1.0, false});
+  ASSERT_EQ(binary.size(), 0u);  // 4 vs 4 bits: a tie fails any ratio
+  const cv::Mat near_ff = (cv::Mat_<uchar>(1, 1) << 0xFE);
+  const auto ff = matchDescriptors(near_ff, binary_train, MatchParams{0.5, false});
+  ASSERT_EQ(ff.size(), 1u);
+  EXPECT_EQ(ff[0].trainIdx, 1);
+  EXPECT_FLOAT_EQ(ff[0].distance, 1.0f);
 }
 
 struct MotionCase {

@@ -141,14 +141,34 @@ struct MotionParams {
   void read(const cv::FileNode& node);
 };
 
+// Frame-to-keyframe visual odometry (risas::Odometry).
+struct OdometryParams {
+  // Fewest RANSAC inliers for a frame to count as tracked.
+  int min_inliers = 12;
+  // A tracked frame becomes the keyframe when its inliers fall below this,
+  // or it has moved farther than these from the keyframe.
+  int keyframe_inliers = 50;
+  double keyframe_translation = 0.10;  // metres
+  double keyframe_rotation_deg = 10.0;
+  // Variance (m^2, rad^2) reported for each axis while lost, as rtabmap's
+  // odometry does: large enough that a filter ignores the pose.
+  double lost_variance = 9999.0;
+
+  void validate() const;
+  void write(cv::FileStorage& fs) const;
+  void read(const cv::FileNode& node);
+};
+
 // Everything together, as stored in a parameter file (top-level nodes
-// geometry, detector, descriptor, match, motion; any may be absent).
+// geometry, detector, descriptor, match, motion, odometry; any may be
+// absent).
 struct RisasParams {
   GeometryParams geometry;
   DetectorParams detector;
   DescriptorParams descriptor;
   MatchParams match;
   MotionParams motion;
+  OdometryParams odometry;
 
   void validate() const;
   void write(cv::FileStorage& fs) const;

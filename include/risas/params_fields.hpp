@@ -66,6 +66,15 @@ void visitFields(MotionParams& p, V&& v) {
   v("seed", p.seed, 0u, 0xffffffffu);
 }
 
+template <class V>
+void visitFields(OdometryParams& p, V&& v) {
+  v("min_inliers", p.min_inliers, 3, 100000);
+  v("keyframe_inliers", p.keyframe_inliers, 3, 100000);
+  v("keyframe_translation", p.keyframe_translation, 0.0, 100.0);
+  v("keyframe_rotation_deg", p.keyframe_rotation_deg, 0.0, 180.0);
+  v("lost_variance", p.lost_variance, 1.0, 1e12);
+}
+
 // Calls v(section, params) for each section of RisasParams, with the section
 // names of the parameter files.
 template <class V>
@@ -75,6 +84,7 @@ void visitSections(RisasParams& p, V&& v) {
   v("descriptor", p.descriptor);
   v("match", p.match);
   v("motion", p.motion);
+  v("odometry", p.odometry);
 }
 
 }  // namespace risas

@@ -155,6 +155,10 @@ void MotionParams::validate() const { validateFields(*this, "motion"); }
 void MotionParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "motion"); }
 void MotionParams::read(const cv::FileNode& node) { readFields(*this, node, "motion"); }
 
+void OdometryParams::validate() const { validateFields(*this, "odometry"); }
+void OdometryParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "odometry"); }
+void OdometryParams::read(const cv::FileNode& node) { readFields(*this, node, "odometry"); }
+
 void RisasParams::validate() const {
   RisasParams copy = *this;
   visitSections(copy, [](const char*, const auto& section) { section.validate(); });

@@ -1,0 +1,51 @@
+// Trajectories as the TUM RGB-D benchmark scores them (Sturm et al., IROS
+// 2012; its evaluate_ate.py and evaluate_rpe.py): files of
+// "timestamp tx ty tz qx qy qz qw", the absolute trajectory error after a
+// least-squares rigid alignment, and the relative pose error per pair of
+// frames a fixed number of frames apart.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace risas::eval {
+
+struct StampedPose {
+  double stamp;
+  Eigen::Isometry3d world_T_camera;
+};
+
+// InputError naming the file and line when unreadable or malformed.
+std::vector<StampedPose> readTrajectory(const std::string& path);
+void writeTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+
+// Estimate and ground-truth poses at the same moments: each estimate stamp
+// with the nearest ground-truth stamp within max_difference seconds
+// (associate.py's rule), in the estimate's order.
+struct AssociatedTrajectory {
+  std::vector<StampedPose> estimate, truth;
+};
+AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,
+                               double max_difference = 0.02);
+
+struct TrajectoryError {
+  int poses = 0;                   // associated poses
+  double ate_rmse = 0.0;           // m, after alignment
+  double ate_mean = 0.0, ate_median = 0.0, ate_max = 0.0;
+  int rpe_pairs = 0;
+  double rpe_translation_rmse = 0.0;  // m per `delta` frames
+  double rpe_rotation_rmse_deg = 0.0;
+  Eigen::Isometry3d truth_T_estimate = Eigen::Isometry3d::Identity();  // the alignment
+};
+
+// ATE: the rigid motion (Horn/Umeyama, no scale) that best maps the
+// estimate's positions onto the truth's, then the RMSE (and mean, median,
+// max) of the remaining position differences. RPE: for each i, the
+// relative motion E_i = (Q_i^-1 Q_{i+delta})^-1 (P_i^-1 P_{i+delta}) of
+// truth Q and estimate P; the RMSE of its translation and of its rotation
+// angle. InputError with fewer than 3 associated poses.
+TrajectoryError trajectoryError(const AssociatedTrajectory& trajectory, int delta = 1);
+
+}  // namespace risas::eval

@@ -1,0 +1,92 @@
+// RGB-D visual odometry on any features with 3D points (RISAS, or ORB with
+// depth for comparison): each frame is matched against the current
+// keyframe (NNDR), its motion found by RANSAC and refined on the inliers
+// (estimateRigidMotion), and its pose chained onto the keyframe's.
+//
+//   risas::Odometry odometry(params.odometry, params.match, params.motion);
+//   for (...) {
+//     const risas::OdometryResult r = odometry.track(risas->extract(frame));
+//     if (r.tracked) use(r.world_T_camera, r.covariance);
+//   }
+//
+// The world frame is the first frame's camera (or the pose given to
+// reset()). Conventions as rtabmap's odometry: a frame that cannot be
+// tracked keeps the last pose (never a jump) and reports lost_variance on
+// every axis; it becomes the new keyframe at that held pose if it has
+// enough features (a recovery, counted), else the next frame that has them
+// does. The motion across the gap is not measured: the trajectory goes on
+// from the held pose. Deterministic for a given
+// input (RANSAC's seed is fixed).
+#pragma once
+
+#include "risas/features.hpp"
+#include "risas/params.hpp"
+
+#include <Eigen/Geometry>
+
+namespace risas {
+
+struct OdometryResult {
+  bool tracked = false;       // the pose was estimated from this frame
+  bool new_keyframe = false;  // the frame is now the keyframe
+  Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
+  // Of world_T_camera, in the order (x, y, z, rotation about x, y, z), the
+  // rotations as a small rotation of the world frame: nav_msgs/Odometry's
+  // layout. lost_variance on the diagonal when not tracked.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  int matches = 0, inliers = 0;
+  double rmse = 0.0;  // of the inliers, metres
+};
+
+// The covariance of a rigid motion fitted to inlier pairs q_i ~ T p_i with
+// residual RMS `rmse`: rmse^2 (J^T J)^-1 over the point-to-point residuals,
+// J_i = [I, -[T p_i]x] for a translation and a small rotation of the target
+// frame. The inverse is taken of the regularised matrix, so that
+// degenerate sets (collinear points) give large, finite variances.
+Eigen::Matrix<double, 6, 6> motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse);
+
+class Odometry {
+ public:
+  Odometry(const OdometryParams& params = OdometryParams(), const MatchParams& match = MatchParams(),
+           const MotionParams& motion = MotionParams());
+
+  // The pose of this frame. features: descriptors (CV_32F or CV_8U) with
+  // one geometry entry (3D point in the camera frame) per keypoint; rows
+  // whose point is not finite are ignored. InputError when descriptors and
+  // geometry differ in count, or the descriptors differ in type or width
+  // from the keyframe's.
+  OdometryResult track(const Features& features);
+
+  // Forget the keyframe; the next frame starts at world_T_camera.
+  void reset(const Eigen::Isometry3d& world_T_camera = Eigen::Isometry3d::Identity());
+
+  const Eigen::Isometry3d& pose() const { return pose_; }
+  int frames() const { return frames_; }
+  int lostFrames() const { return lost_frames_; }  // frames not tracked, since construction or reset
+  int recoveries() const { return recoveries_; }   // re-initialisations after being lost
+  int keyframes() const { return keyframes_; }
+  bool lost() const { return lost_; }
+
+ private:
+  struct Keyframe {
+    cv::Mat descriptors;
+    std::vector<cv::Point3f> points;
+    Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
+    Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+    bool valid = false;
+  };
+  static Keyframe keyframeOf(const Features& features);
+  void makeKeyframe(Keyframe keyframe, const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 6>& covariance);
+  Eigen::Matrix<double, 6, 6> lostCovariance() const;
+
+  OdometryParams params_;
+  MatchParams match_;
+  MotionParams motion_;
+  Keyframe keyframe_;
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> covariance_ = Eigen::Matrix<double, 6, 6>::Zero();  // the last tracked frame's
+  bool lost_ = false;
+  int frames_ = 0, lost_frames_ = 0, recoveries_ = 0, keyframes_ = 0;
+};
+
+}  // namespace risas

@@ -1,0 +1,168 @@
+#include "risas/odometry.hpp"
+
+#include "risas/errors.hpp"
+#include "risas/matcher.hpp"
+#include "risas/motion.hpp"
+
+#include <cmath>
+
+namespace risas {
+namespace {
+
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+// [v]x, the cross-product matrix.
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// A covariance of a motion expressed in frame A moved into frame W by the
+// rotation R_WA (translation and rotation parts alike).
+Matrix6 rotated(const Matrix6& c, const Eigen::Matrix3d& R) {
+  Matrix6 big = Matrix6::Zero();
+  big.topLeftCorner<3, 3>() = R;
+  big.bottomRightCorner<3, 3>() = R;
+  return big * c * big.transpose();
+}
+
+}  // namespace
+
+Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse) {
+  Matrix6 H = Matrix6::Zero();
+  for (const Eigen::Vector3d& q : target_points) {
+    Eigen::Matrix<double, 3, 6> J;
+    J.leftCols<3>() = Eigen::Matrix3d::Identity();
+    J.rightCols<3>() = -skew(q);
+    H += J.transpose() * J;
+  }
+  // A floor on the noise (1 mm) keeps an exact fit from claiming certainty;
+  // the regulariser keeps a degenerate set finite.
+  const double sigma2 = std::max(rmse * rmse, 1e-6);
+  return sigma2 * (H + 1e-9 * Matrix6::Identity()).inverse();
+}
+
+Odometry::Odometry(const OdometryParams& params, const MatchParams& match, const MotionParams& motion)
+    : params_(params), match_(match), motion_(motion) {
+  params_.validate();
+  match_.validate();
+  motion_.validate();
+}
+
+void Odometry::reset(const Eigen::Isometry3d& world_T_camera) {
+  keyframe_ = Keyframe();
+  pose_ = world_T_camera;
+  covariance_.setZero();
+  lost_ = false;
+  frames_ = lost_frames_ = recoveries_ = keyframes_ = 0;
+}
+
+Odometry::Keyframe Odometry::keyframeOf(const Features& features) {
+  const int n = static_cast<int>(features.keypoints.size());
+  if (features.descriptors.rows != n || static_cast<int>(features.geometry.size()) != n) {
+    throw InputError("odometry: features need one descriptor row and one 3D point per keypoint (" +
+                     std::to_string(n) + " keypoints, " + std::to_string(features.descriptors.rows) +
+                     " descriptors, " + std::to_string(features.geometry.size()) + " points)");
+  }
+  Keyframe k;
+  k.descriptors = cv::Mat(0, features.descriptors.cols, features.descriptors.type());
+  for (int i = 0; i < n; ++i) {
+    const cv::Point3f& p = features.geometry[static_cast<size_t>(i)].point;
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0.0f)) continue;
+    k.points.push_back(p);
+    k.descriptors.push_back(features.descriptors.row(i));
+  }
+  k.valid = true;
+  return k;
+}
+
+void Odometry::makeKeyframe(Keyframe keyframe, const Eigen::Isometry3d& pose, const Matrix6& covariance) {
+  keyframe.world_T_camera = pose;
+  keyframe.covariance = covariance;
+  keyframe_ = std::move(keyframe);
+  ++keyframes_;
+}
+
+Matrix6 Odometry::lostCovariance() const { return params_.lost_variance * Matrix6::Identity(); }
+
+OdometryResult Odometry::track(const Features& features) {
+  Keyframe frame = keyframeOf(features);
+  ++frames_;
+  OdometryResult r;
+  r.world_T_camera = pose_;
+  const int enough = std::max(params_.min_inliers, motion_.min_inliers);
+
+  if (!keyframe_.valid) {
+    // The first frame (or the first after a lost one too poor to start
+    // from) starts at the current pose if it has the features to be tracked
+    // against. The first defines the origin and counts as tracked; after
+    // being lost the motion across the gap is unmeasured, the pose is held,
+    // and the covariance goes on from the last tracked one (it cannot count
+    // what it did not see).
+    const bool first = !lost_;
+    if (static_cast<int>(frame.points.size()) < enough) {
+      ++lost_frames_;
+      r.covariance = lostCovariance();
+      return r;
+    }
+    if (!first) ++recoveries_;
+    makeKeyframe(std::move(frame), pose_, covariance_);
+    lost_ = false;
+    r.new_keyframe = true;
+    r.tracked = first;
+    r.covariance = first ? covariance_ : lostCovariance();
+    if (!first) ++lost_frames_;
+    return r;
+  }
+
+  const std::vector<cv::DMatch> matches = matchDescriptors(frame.descriptors, keyframe_.descriptors, match_);
+  const MotionEstimate m = estimateRigidMotion(frame.points, keyframe_.points, matches, motion_);
+  r.matches = static_cast<int>(matches.size());
+  r.inliers = m.num_inliers;
+  r.rmse = m.rmse;
+  if (!m.valid || m.num_inliers < enough) {
+    // Lost. The pose is held; this frame, if it has the features, is the
+    // new keyframe at the held pose (a recovery), so that the next frame can
+    // be tracked again. Otherwise the next frame that has them starts anew.
+    lost_ = true;
+    ++lost_frames_;
+    r.covariance = lostCovariance();
+    if (static_cast<int>(frame.points.size()) >= enough) {
+      ++recoveries_;
+      makeKeyframe(std::move(frame), pose_, covariance_);
+      r.new_keyframe = true;
+    } else {
+      keyframe_ = Keyframe();
+    }
+    return r;
+  }
+
+  const Eigen::Isometry3d& key_T_frame = m.train_T_query;
+  std::vector<Eigen::Vector3d> inlier_points;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (!m.inliers[i]) continue;
+    const cv::Point3f& p = frame.points[static_cast<size_t>(matches[i].queryIdx)];
+    inlier_points.push_back(key_T_frame * Eigen::Vector3d(p.x, p.y, p.z));
+  }
+  // The increment's covariance, in the keyframe's camera frame, moved into
+  // the world frame and added to the keyframe's own.
+  const Matrix6 increment = motionCovariance(inlier_points, m.rmse);
+  pose_ = keyframe_.world_T_camera * key_T_frame;
+  r.tracked = true;
+  r.world_T_camera = pose_;
+  r.covariance = keyframe_.covariance + rotated(increment, keyframe_.world_T_camera.linear());
+  covariance_ = r.covariance;
+
+  const double moved = key_T_frame.translation().norm();
+  const double turned = Eigen::AngleAxisd(key_T_frame.linear()).angle() * 180.0 / M_PI;
+  lost_ = false;
+  if (m.num_inliers < params_.keyframe_inliers || moved > params_.keyframe_translation ||
+      turned > params_.keyframe_rotation_deg) {
+    makeKeyframe(std::move(frame), pose_, r.covariance);
+    r.new_keyframe = true;
+  }
+  return r;
+}
+
+}  // namespace risas
