@@ -1,6 +1,7 @@
 // The nodelets as a ROS user meets them, under rostest. Each .test file
 // starts the nodes and runs one suite of this executable (--gtest_filter):
-//   Pipeline  demo.launch: synthetic camera -> RisasNodelet
+//   Pipeline  demo.launch: synthetic camera -> RisasNodelet (-> OdometryNodelet)
+//   Odometry  demo.launch: odom against the synthetic truth, reset, bad arrays
 //   BadInput  risas_node alone; this test publishes good and bad frames
 //   Bag       bag.launch playing a bag written by risas_dataset_to_bag
 //   NoDevice  the OpenNI2 camera node, started here, asked for a device that is not there
@@ -12,8 +13,10 @@
 #include <cv_bridge/cv_bridge.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/image_encodings.h>
+#include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -200,6 +203,86 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
       30.0))
       << "no motion after the descriptor size changed";
   ASSERT_TRUE(setIntParameter("/risas", "n_bin", 8));
+}
+
+// ---------------------------------------------------------------- Odometry --
+
+TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
+  ros::NodeHandle nh;
+  tf2_ros::Buffer buffer(ros::Duration(60.0));
+  tf2_ros::TransformListener listener(buffer);
+  Recorder<nav_msgs::Odometry> odom(nh, "/odom");
+  Recorder<rosgraph_msgs::Log> log(nh, "/rosout");
+  ASSERT_TRUE(odom.waitForCount(1, 60.0)) << "no odometry on /odom";
+  ros::WallDuration(1.0).sleep();  // the tf listener fills its buffer
+
+  // A reset: the next pose is the identity, and the truth is measured from it.
+  std_srvs::Empty reset;
+  ASSERT_TRUE(ros::service::waitForService("/odometry/reset", ros::Duration(10.0)));
+  ASSERT_TRUE(ros::service::call("/odometry/reset", reset));
+  const ros::Time after_reset = ros::Time::now();
+  // A full swing of the synthetic camera (12 s) at 10 Hz.
+  ASSERT_TRUE(odom.waitFor(
+      [&](const auto& m) {
+        return std::count_if(m.begin(), m.end(), [&](const auto& o) { return o->header.stamp > after_reset; }) >= 110;
+      },
+      60.0));
+  std::vector<nav_msgs::OdometryConstPtr> run;
+  for (const auto& o : odom.messages()) {
+    if (o->header.stamp > after_reset) run.push_back(o);
+  }
+  const auto pose = [](const nav_msgs::Odometry& o) {
+    geometry_msgs::Transform t;
+    t.translation.x = o.pose.pose.position.x, t.translation.y = o.pose.pose.position.y;
+    t.translation.z = o.pose.pose.position.z, t.rotation = o.pose.pose.orientation;
+    return toEigen(t);
+  };
+  EXPECT_TRUE(pose(*run.front()).isApprox(Eigen::Isometry3d::Identity(), 1e-9)) << "a reset did not return to identity";
+  EXPECT_EQ(run.front()->header.frame_id, "odom");
+  EXPECT_EQ(run.front()->child_frame_id, "camera_rgb_optical_frame");
+  const Eigen::Isometry3d world_T_start =
+      toEigen(buffer.lookupTransform("world", "camera_rgb_optical_frame", run.front()->header.stamp, ros::Duration(2.0)).transform);
+  double worst_translation = 0.0, worst_rotation = 0.0;
+  int lost = 0;
+  for (const auto& o : run) {
+    if (o->pose.covariance[0] >= 1000.0) {
+      ++lost;
+      continue;
+    }
+    const Eigen::Isometry3d truth =
+        world_T_start.inverse() *
+        toEigen(buffer.lookupTransform("world", o->child_frame_id, o->header.stamp, ros::Duration(2.0)).transform);
+    const Eigen::Isometry3d error = truth.inverse() * pose(*o);
+    worst_translation = std::max(worst_translation, error.translation().norm());
+    worst_rotation = std::max(worst_rotation, Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);
+  }
+  EXPECT_EQ(lost, 0);
+  // After a full swing (25 deg and back, ~0.6 m of camera travel): within
+  // 2 cm and 1 deg of the truth throughout.
+  EXPECT_LT(worst_translation, 0.02);
+  EXPECT_LT(worst_rotation, 1.0);
+
+  // A malformed array (fewer descriptor values than keypoints x dim) is
+  // skipped with an error naming the problem, and odometry goes on.
+  ros::Publisher bad = nh.advertise<risas::KeypointArray>("/risas/keypoints", 1, true);
+  risas::KeypointArray array;
+  array.header.frame_id = "camera_rgb_optical_frame";
+  array.header.stamp = ros::Time::now();
+  array.keypoints.resize(5);
+  array.descriptor_dim = 192;
+  array.descriptors.resize(10);
+  ros::WallDuration(0.5).sleep();
+  bad.publish(array);
+  EXPECT_TRUE(log.waitFor(
+      [](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [](const auto& l) {
+          return l->level == rosgraph_msgs::Log::ERROR && l->msg.find("skipping KeypointArray") != std::string::npos;
+        });
+      },
+      10.0))
+      << "no error for a malformed KeypointArray";
+  const size_t before = odom.messages().size();
+  EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
 }
 
 // ---------------------------------------------------------------- BadInput --

@@ -1,0 +1,195 @@
+// risas/OdometryNodelet: visual odometry from risas/KeypointArray alone (the
+// message is enough: descriptors and 3D points), risas::Odometry inside.
+// Conventions as rtabmap_ros's rgbd_odometry:
+//   in   keypoints   risas/KeypointArray
+//   out  odom        nav_msgs/Odometry, header.frame_id ~odom_frame_id
+//                    (odom), child_frame_id the camera frame, or
+//                    ~base_frame_id when given (then the base's pose,
+//                    through the static tf base -> camera); while lost the
+//                    held pose with ~odometry/lost_variance on the diagonal,
+//                    never a jump
+//        odom_path   nav_msgs/Path of the poses, for rviz (~path_length)
+//        tf          ~odom_frame_id -> child, when ~publish_tf (true)
+//   srv  ~reset      std_srvs/Empty: back to identity, path cleared
+// Parameters of the odometry, matching and RANSAC as in config/risas.yaml
+// (~odometry/min_inliers, ~match/ratio, ~motion/inlier_threshold, ...).
+#include "risas/errors.hpp"
+#include "risas/odometry.hpp"
+#include "risas/ros/conversions.hpp"
+#include "risas/ros/log_throttle.hpp"
+
+#include <risas/KeypointArray.h>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <std_srvs/Empty.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <memory>
+#include <mutex>
+#include <optional>
+
+namespace risas_ros {
+
+namespace {
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
+  const geometry_msgs::Transform t = toTransform(T);
+  geometry_msgs::Pose p;
+  p.position.x = t.translation.x;
+  p.position.y = t.translation.y;
+  p.position.z = t.translation.z;
+  p.orientation = t.rotation;
+  return p;
+}
+
+Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return T;
+}
+
+}  // namespace
+
+class OdometryNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    try {
+      params_ = paramsFromServer(pnh);
+    } catch (const std::exception& e) {
+      NODELET_FATAL("odometry parameters rejected: %s", e.what());
+      throw;
+    }
+    odometry_ = std::make_unique<risas::Odometry>(params_.odometry, params_.match, params_.motion);
+    pnh.param<std::string>("odom_frame_id", odom_frame_, "odom");
+    pnh.param<std::string>("base_frame_id", base_frame_, "");
+    pnh.param("publish_tf", publish_tf_, true);
+    pnh.param("path_length", path_length_, 10000);
+    if (!base_frame_.empty()) {
+      tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+      tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+    }
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
+    path_pub_ = nh.advertise<nav_msgs::Path>("odom_path", 1, true);
+    reset_srv_ = pnh.advertiseService("reset", &OdometryNodelet::onReset, this);
+    sub_ = nh.subscribe("keypoints", 10, &OdometryNodelet::onKeypoints, this);
+  }
+
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    odometry_->reset();
+    path_.poses.clear();
+    NODELET_INFO("odometry reset to identity");
+    return true;
+  }
+
+  // base_T_camera from tf (static), once it is known.
+  std::optional<Eigen::Isometry3d> baseTCamera(const std::string& camera_frame) {
+    if (base_T_camera_) return base_T_camera_;
+    try {
+      base_T_camera_ = fromTransform(tf_buffer_->lookupTransform(base_frame_, camera_frame, ros::Time(0)).transform);
+    } catch (const tf2::TransformException& e) {
+      if (errors_.shouldLog("no tf")) {
+        NODELET_WARN("odometry waits for tf %s -> %s: %s", base_frame_.c_str(), camera_frame.c_str(), e.what());
+      }
+    }
+    return base_T_camera_;
+  }
+
+  void onKeypoints(const risas::KeypointArrayConstPtr& message) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::string& camera_frame = message->header.frame_id;
+    if (camera_frame.empty()) {
+      if (errors_.shouldLog("frame_id")) NODELET_ERROR("skipping KeypointArray: empty header.frame_id");
+      return;
+    }
+    std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
+    if (!base_frame_.empty() && !(base_T_camera = baseTCamera(camera_frame))) return;
+
+    risas::OdometryResult r;
+    try {
+      const risas::Features features = fromMessage(*message);
+      if (last_dim_ && *last_dim_ != message->descriptor_dim) {
+        NODELET_INFO("descriptor size changed (%u -> %u): odometry starts a new keyframe at the current pose",
+                     *last_dim_, message->descriptor_dim);
+        odometry_->reset(odometry_->pose());
+      }
+      last_dim_ = message->descriptor_dim;
+      r = odometry_->track(features);
+    } catch (const risas::InputError& e) {
+      if (errors_.shouldLog(e.what())) NODELET_ERROR("skipping KeypointArray: %s", e.what());
+      return;
+    }
+    if (!r.tracked && errors_.shouldLog("lost")) {
+      NODELET_WARN("odometry lost: %d inliers of %d matches (%d frames lost, %d recoveries so far); holding the pose",
+                   r.inliers, r.matches, odometry_->lostFrames(), odometry_->recoveries());
+    }
+
+    // In the odom frame: the camera, or the base through the static tf.
+    const Eigen::Isometry3d& T_bc = *base_T_camera;
+    const Eigen::Isometry3d odom_T_child = T_bc * r.world_T_camera * T_bc.inverse();
+    const std::string child = base_frame_.empty() ? camera_frame : base_frame_;
+    nav_msgs::Odometry odom;
+    odom.header.stamp = message->header.stamp;
+    odom.header.frame_id = odom_frame_;
+    odom.child_frame_id = child;
+    odom.pose.pose = toPose(odom_T_child);
+    Eigen::Matrix<double, 6, 6> covariance = r.covariance;
+    if (!base_frame_.empty() && r.tracked) {  // the camera's covariance in the base's axes
+      Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::Zero();
+      R.topLeftCorner<3, 3>() = T_bc.linear();
+      R.bottomRightCorner<3, 3>() = T_bc.linear();
+      covariance = R * covariance * R.transpose();
+    }
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
+    }
+    // No twist is estimated: its covariance says so.
+    for (int i = 0; i < 6; ++i) odom.twist.covariance[static_cast<size_t>(7 * i)] = params_.odometry.lost_variance;
+    odom_pub_.publish(odom);
+
+    if (publish_tf_) {
+      geometry_msgs::TransformStamped t;
+      t.header = odom.header;
+      t.child_frame_id = child;
+      t.transform = toTransform(odom_T_child);
+      tf_broadcaster_.sendTransform(t);
+    }
+    geometry_msgs::PoseStamped stamped;
+    stamped.header = odom.header;
+    stamped.pose = odom.pose.pose;
+    path_.header = odom.header;
+    path_.poses.push_back(stamped);
+    if (static_cast<int>(path_.poses.size()) > path_length_) path_.poses.erase(path_.poses.begin());
+    path_pub_.publish(path_);
+  }
+
+  std::mutex mutex_;
+  risas::RisasParams params_;
+  std::unique_ptr<risas::Odometry> odometry_;
+  std::string odom_frame_, base_frame_;
+  bool publish_tf_ = true;
+  int path_length_ = 10000;
+  std::optional<uint32_t> last_dim_;
+  std::optional<Eigen::Isometry3d> base_T_camera_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  ros::Publisher odom_pub_, path_pub_;
+  ros::ServiceServer reset_srv_;
+  ros::Subscriber sub_;
+  nav_msgs::Path path_;
+  LogThrottle errors_{5.0};
+};
+
+}  // namespace risas_ros
+
+PLUGINLIB_EXPORT_CLASS(risas_ros::OdometryNodelet, nodelet::Nodelet)
