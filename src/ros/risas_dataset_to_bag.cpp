@@ -3,13 +3,10 @@
 // the topics of an OpenNI camera, ready for `roslaunch risas bag.launch`.
 #include "../tools/cli.hpp"
 
+#include "bag_frames.hpp"
+
 #include "risas/errors.hpp"
 #include "risas/io.hpp"
-#include "risas/ros/conversions.hpp"
-
-#include <cv_bridge/cv_bridge.h>
-#include <rosbag/bag.h>
-#include <sensor_msgs/image_encodings.h>
 
 #include <iostream>
 
@@ -35,26 +32,15 @@ int main(int argc, char** argv) {
     if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir);
 
     rosbag::Bag bag;
-    try {
-      bag.open(out, rosbag::bagmode::Write);
-    } catch (const rosbag::BagException& e) {
-      throw risas::InputError("cannot write bag " + out + ": " + e.what());
-    }
+    risas_ros::openBagForWriting(bag, out);
     const ros::Time start(1.0e9);  // fixed, so the same sequence gives the same bag
     for (size_t i = 0; i < frames.size(); ++i) {
       const risas::RgbdImages images = risas::readRgbdImages(frames[i].rgb_path, frames[i].depth_path);
-      const risas::RgbdFrame check(images.bgr, images.depth_mm, K);  // sizes, depth present
       std_msgs::Header header;
       header.seq = static_cast<uint32_t>(i);
       header.stamp = start + ros::Duration(i / rate);
       header.frame_id = args.get("frame-id", "camera_rgb_optical_frame");
-      sensor_msgs::CameraInfo info = risas_ros::cameraInfoFromIntrinsics(K, check.size());
-      info.header = header;
-      bag.write(ns + "/rgb/image_rect_color", header.stamp,
-                cv_bridge::CvImage(header, sensor_msgs::image_encodings::BGR8, images.bgr).toImageMsg());
-      bag.write(ns + "/depth_registered/image_raw", header.stamp,
-                cv_bridge::CvImage(header, sensor_msgs::image_encodings::TYPE_16UC1, images.depth_mm).toImageMsg());
-      bag.write(ns + "/rgb/camera_info", header.stamp, info);
+      risas_ros::writeRgbdFrame(bag, ns, header, images.bgr, images.depth_mm, K);
     }
     bag.close();
     std::cout << frames.size() << " frames written to " << out << " (" << ns << "/rgb/image_rect_color, " << ns
