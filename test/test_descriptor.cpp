@@ -142,6 +142,33 @@ TEST(Descriptor, DimensionIsNPieTimesNBinTimesNVecPlusOne) {
   }
 }
 
+TEST(Descriptor, RingsSplitEachSectorsHistogramInTwoHalvesOfTheDisc) {
+  // With n_ring = 2 each (sector, rank, shape) count is split between an
+  // inner and an outer ring of about equal area: the two halves add up to
+  // the one-ring histogram of the same keypoints (before normalisation).
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  RisasParams one, two;
+  two.descriptor.n_ring = 2;
+  std::vector<cv::KeyPoint> keypoints;
+  Risas(one).detect(frame, keypoints);
+  std::vector<cv::KeyPoint> k1 = keypoints, k2 = keypoints;
+  cv::Mat d1, d2;
+  Risas(one).compute(frame, k1, d1);
+  Risas(two).compute(frame, k2, d2);
+  ASSERT_EQ(d2.cols, 2 * d1.cols);
+  ASSERT_EQ(d1.rows, d2.rows);
+  ASSERT_GT(d1.rows, 100);
+  double inner_mass = 0.0, outer_mass = 0.0;
+  for (int r = 0; r < d1.rows; ++r) {
+    cv::Mat sum = d2.row(r).colRange(0, d1.cols) + d2.row(r).colRange(d1.cols, d2.cols);
+    sum /= cv::norm(sum);
+    EXPECT_LT(cv::norm(sum, d1.row(r), cv::NORM_INF), 1e-5) << "keypoint " << r;
+    inner_mass += cv::sum(d2.row(r).colRange(0, d1.cols))[0];
+    outer_mass += cv::sum(d2.row(r).colRange(d1.cols, d2.cols))[0];
+  }
+  EXPECT_NEAR(inner_mass / outer_mass, 1.0, 0.15);  // about equal areas, mostly counted
+}
+
 TEST(Descriptor, SetsAngleSizeAndGeometryConsistentWithDepth) {
   SyntheticRender render;
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera(), &render);

@@ -73,6 +73,29 @@ TEST(PoseRecovery, ExactMatchesGiveZeroErrorAndSuccess) {
   EXPECT_FALSE(none.within(180.0, 1e9));
 }
 
+TEST(Repeatability, CountsKeypointsSeenByBothCamerasAndFoundAgain) {
+  // A wall at 2 m seen by a reference camera; the query camera is 0.1 m to
+  // its right (p_ref = p_query + (0.1, 0, 0)). K: f = 100, centre (50, 40).
+  const Intrinsics K(100, 100, 50, 40);
+  cv::Mat depth(80, 100, CV_32FC1, cv::Scalar(2.0f));
+  depth(cv::Rect(0, 0, 10, 80)).setTo(3.0f);  // something farther at the left edge
+  const Eigen::Isometry3d ref_T_query = test::pose({0.1, 0.0, 0.0});
+  // Query points on the wall at query pixels (30, 40), (60, 20), (90, 70):
+  // in the reference at u + 5. One more behind the wall (occluded), one
+  // that leaves the image.
+  std::vector<cv::Point3f> query;
+  for (const cv::Point2f px : {cv::Point2f(30, 40), cv::Point2f(60, 20), cv::Point2f(90, 70)}) {
+    query.emplace_back((px.x - 50) * 2.0f / 100, (px.y - 40) * 2.0f / 100, 2.0f);
+  }
+  query.emplace_back(0.0f, 0.0f, 2.5f);   // behind the wall: not visible
+  query.emplace_back(1.0f, 0.0f, 2.0f);   // projects to u = 105: outside
+  const std::vector<cv::Point2f> reference = {{35.5f, 40.0f}, {65.0f, 23.5f}, {10.0f, 10.0f}};
+  const Repeatability r = detectorRepeatability(query, reference, depth, K, ref_T_query, 3.0, 0.05);
+  EXPECT_EQ(r.visible, 3);
+  EXPECT_EQ(r.repeated, 1);  // (35, 40) found 0.5 px off; (65, 20) is 3.5 px off; (95, 70) has none
+  EXPECT_NEAR(r.rate(), 1.0 / 3.0, 1e-12);
+}
+
 TEST(PoseRecovery, RisasMatchesOfARenderedPairRecoverItsMotion) {
   // The demo scene seen from two poses 6 degrees apart: RISAS features,
   // NNDR candidates, RANSAC; the known motion comes back within 2 deg / 2 cm.

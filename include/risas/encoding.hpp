@@ -36,7 +36,7 @@ class PatchEncoder {
   // The disc's samples: offset (i, j) in units of the disc radius, and
   // spatial label in the rotated patch.
   std::vector<float> disc_i_, disc_j_;
-  std::vector<uint8_t> disc_sector_;
+  std::vector<uint16_t> disc_sector_;  // ring * n_pie + sector
 };
 
 }  // namespace risas

@@ -78,6 +78,10 @@ struct DescriptorParams {
   int n_pie = 8;
   int n_bin = 8;
   int n_vec = 2;
+  // Rings of equal area the disc is cut into, each of n_pie sectors: the
+  // spatial label is (ring, sector) and the descriptor n_ring times longer.
+  // 1: the paper's sectors only.
+  int n_ring = 1;
   // rho-bar: normal dot products rho >= rho_threshold form one label.
   double rho_threshold = 0.9;
   // Patch radius before the ellipse fit. 0: the paper's eq. 3-4, in pixels,
@@ -112,7 +116,7 @@ struct DescriptorParams {
   // a patch's few thousand samples leave nearly every bin empty, and one
   // frame's descriptors would run to hundreds of megabytes.
   static constexpr int kMaxDimension = 2048;
-  int dimension() const { return n_pie * n_bin * (n_vec + 1); }
+  int dimension() const { return n_ring * n_pie * n_bin * (n_vec + 1); }
   void validate() const;
   void write(cv::FileStorage& fs) const;
   void read(const cv::FileNode& node);

@@ -21,9 +21,11 @@ PatchEncoder::PatchEncoder(const DescriptorParams& params) : params_(params) {
       double angle = std::atan2(static_cast<double>(j), static_cast<double>(i));
       if (angle < 0.0) angle += 2.0 * CV_PI;
       const int sector = std::min(params_.n_pie - 1, static_cast<int>(angle / sector_angle));
+      // Equal-area rings: the share of the disc inside radius rho is rho^2.
+      const int ring = std::min(params_.n_ring - 1, params_.n_ring * (i * i + j * j) / (r * r + 1));
       disc_i_.push_back(static_cast<float>(i) / r);
       disc_j_.push_back(static_cast<float>(j) / r);
-      disc_sector_.push_back(static_cast<uint8_t>(sector));
+      disc_sector_.push_back(static_cast<uint16_t>(ring * params_.n_pie + sector));
     }
   }
 }

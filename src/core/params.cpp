@@ -138,8 +138,8 @@ void DescriptorParams::validate() const {
     throw InputError("descriptor.min_radius_px exceeds descriptor.max_radius_px");
   }
   if (dimension() > kMaxDimension) {
-    throw InputError("descriptor size n_pie * n_bin * (n_vec + 1) = " + std::to_string(dimension()) + " exceeds " +
-                     std::to_string(kMaxDimension) + " (" + std::to_string(n_pie) + " * " + std::to_string(n_bin) +
+    throw InputError("descriptor size n_ring * n_pie * n_bin * (n_vec + 1) = " + std::to_string(dimension()) + " exceeds " +
+                     std::to_string(kMaxDimension) + " (" + std::to_string(n_ring) + " * " + std::to_string(n_pie) + " * " + std::to_string(n_bin) +
                      " * " + std::to_string(n_vec + 1) + "): a patch of " + std::to_string(patch_radius) +
                      " samples per radius cannot fill so many bins");
   }

@@ -24,7 +24,7 @@ namespace {
 
 // Keeps the keypoints with a 3D point; returns how many were dropped.
 int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const cv::Point2f&)>& point_of,
-                  std::vector<cv::Point3f>& points, cv::Mat& descriptors) {
+                  std::vector<cv::Point3f>& points, cv::Mat& descriptors, std::vector<cv::Point2f>* pixels = nullptr) {
   int dropped = 0;
   descriptors = cv::Mat(0, out.descriptors.cols, out.descriptors.type());
   for (size_t i = 0; i < out.pixels.size(); ++i) {
@@ -34,6 +34,7 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
       continue;
     }
     points.push_back(p);
+    if (pixels) pixels->push_back(out.pixels[i]);
     descriptors.push_back(out.descriptors.row(static_cast<int>(i)));
   }
   return dropped;
@@ -65,10 +66,11 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     r.method = method->name();
     r.ms_per_frame = 0.5 * (reference.ms + query.ms);
     std::vector<cv::Point3f> reference_points, query_points;
+    std::vector<cv::Point2f> reference_pixels;
     cv::Mat reference_descriptors, query_descriptors;
     r.dropped_reference = keepWithDepth(
         reference.output, [&](const cv::Point2f& px) { return keypointPoint(reference_depth, intrinsics_, px); },
-        reference_points, reference_descriptors);
+        reference_points, reference_descriptors, &reference_pixels);
     r.dropped_query = keepWithDepth(
         query.output,
         [&](const cv::Point2f& px) {
@@ -80,6 +82,7 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
         query_points, query_descriptors);
     r.reference_keypoints = static_cast<int>(reference_points.size());
     r.query_keypoints = static_cast<int>(query_points.size());
+    r.repeatability = detectorRepeatability(query_points, reference_pixels, reference_depth, intrinsics_, pair.ref_T_query);
     r.positives = countPositives(query_points, reference_points, pair.ref_T_query, d_min_);
     r.candidates = nearestNeighbourCandidates(query_descriptors, reference_descriptors, method->norm(), query_points,
                                               reference_points, pair.ref_T_query, d_min_);

@@ -45,10 +45,33 @@ class OpenCvMethod : public FeatureMethod {
   cv::Ptr<cv::Feature2D> feature_;
 };
 
+// Another detector's keypoints described by RISAS: which of the two stages
+// limits a result (docs/evaluation.md).
+class DescribedByRisas : public FeatureMethod {
+ public:
+  DescribedByRisas(std::string name, cv::Ptr<cv::Feature2D> detector, const RisasParams& params)
+      : name_(std::move(name)), detector_(std::move(detector)), risas_(params) {}
+  std::string name() const override { return name_; }
+  int norm() const override { return risas_.defaultNorm(); }
+  MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
+    std::vector<cv::KeyPoint> keypoints;
+    detector_->detect(frame.gray(), keypoints);
+    MethodOutput out;
+    risas_.compute(frame, keypoints, out.descriptors);
+    for (const cv::KeyPoint& k : keypoints) out.pixels.push_back(k.pt);
+    return out;
+  }
+
+ private:
+  std::string name_;
+  cv::Ptr<cv::Feature2D> detector_;
+  Risas risas_;
+};
+
 }  // namespace
 
 std::vector<std::string> methodNames() {
-  std::vector<std::string> names = {"RISAS", "ORB", "SIFT"};
+  std::vector<std::string> names = {"RISAS", "ORB", "SIFT", "ORB+RISAS"};
   if (havePcl()) {
     for (const char* n : {"RISAS+CSHOT", "ISS+CSHOT", "UNIFORM+CSHOT", "SIFT+CSHOT"}) names.push_back(n);
   }
@@ -64,6 +87,7 @@ std::unique_ptr<FeatureMethod> makeMethod(const std::string& name, const RisasPa
   // ORB as the paper's peers and visual odometry use it: 1000 features.
   if (name == "ORB") return std::make_unique<OpenCvMethod>(name, cv::ORB::create(1000));
   if (name == "SIFT") return std::make_unique<OpenCvMethod>(name, cv::SIFT::create());
+  if (name == "ORB+RISAS") return std::make_unique<DescribedByRisas>(name, cv::ORB::create(1000), params);
   if (auto pcl = makePclMethod(name, params)) return pcl;
   std::string known;
   for (const std::string& n : methodNames()) known += " " + n;

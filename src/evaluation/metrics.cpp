@@ -5,6 +5,7 @@
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace risas::eval {
 
@@ -35,6 +36,31 @@ std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv
                           pair[0].queryIdx, pair[0].trainIdx});
   }
   return candidates;
+}
+
+Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points,
+                                    const std::vector<cv::Point2f>& reference_pixels,
+                                    const cv::Mat& reference_depth_metres, const Intrinsics& intrinsics,
+                                    const Eigen::Isometry3d& ref_T_query, double pixel_tolerance,
+                                    double depth_tolerance) {
+  CV_Assert(reference_depth_metres.type() == CV_32FC1);
+  Repeatability r;
+  const double tol2 = pixel_tolerance * pixel_tolerance;
+  for (const cv::Point3f& q : query_points) {
+    const Eigen::Vector3d p = ref_T_query * Eigen::Vector3d(q.x, q.y, q.z);
+    if (!(p.z() > 0.0)) continue;
+    const double u = intrinsics.fx * p.x() / p.z() + intrinsics.cx, v = intrinsics.fy * p.y() / p.z() + intrinsics.cy;
+    const int iu = static_cast<int>(std::lround(u)), iv = static_cast<int>(std::lround(v));
+    if (iu < 0 || iv < 0 || iu >= reference_depth_metres.cols || iv >= reference_depth_metres.rows) continue;
+    const float z = reference_depth_metres.at<float>(iv, iu);
+    if (!(std::abs(z - p.z()) <= depth_tolerance)) continue;  // occluded, or no depth there
+    ++r.visible;
+    r.repeated += std::any_of(reference_pixels.begin(), reference_pixels.end(), [&](const cv::Point2f& k) {
+      const double du = k.x - u, dv = k.y - v;
+      return du * du + dv * dv <= tol2;
+    });
+  }
+  return r;
 }
 
 int countPositives(const std::vector<cv::Point3f>& query_points, const std::vector<cv::Point3f>& reference_points,

@@ -27,6 +27,7 @@ double success5(const PairResult& r) { return r.pose.within(5.0, 0.05) ? 1.0 : 0
 double success2(const PairResult& r) { return r.pose.within(2.0, 0.02) ? 1.0 : 0.0; }
 double inliers(const PairResult& r) { return r.pose.inliers; }
 double correct(const PairResult& r) { return r.at_ratio.correct; }
+double repeatability(const PairResult& r) { return r.repeatability.rate(); }
 
 // Per scene: each method's pose success rates per sequence, and over all
 // the scene's pairs, with mean inliers and correct matches over them.
@@ -34,8 +35,9 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
                     const std::vector<std::string>& methods, const std::map<Key, Group>& groups, double report_ratio) {
   md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm), % of pairs\n\n| method |";
   for (const std::string& s : present) md << " " << s << " |";
-  md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio << " |\n|---|";
-  for (size_t i = 0; i < present.size() + 3; ++i) md << "---|";
+  md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio
+     << " | keypoints | repeatability |\n|---|";
+  for (size_t i = 0; i < present.size() + 5; ++i) md << "---|";
   md << "\n";
   for (const std::string& m : methods) {
     Group all;
@@ -51,7 +53,9 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
          << ") |";
     }
     md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
-       << all.mean(inliers) << " | " << all.mean(correct) << " |\n";
+       << all.mean(inliers) << " | " << all.mean(correct) << " | " << std::setprecision(0)
+       << all.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << " | "
+       << std::setprecision(2) << all.mean(repeatability) << " |\n";
   }
   md << "\n";
 }
@@ -83,21 +87,22 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
   std::ofstream pairs = openFile(dir, "pairs.csv");
   pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
            "positives,pr_auc,precision,recall,correct,matches,ms_per_frame,pose_estimated,inliers,rotation_error_deg,"
-           "alignment_error_m,success_5deg_5cm,success_2deg_2cm\n";
+           "alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible\n";
   for (const PairResult& r : results) {
     pairs << r.pair.scene << "," << r.pair.sequence << "," << r.pair.label << "," << r.pair.step << "," << r.method
           << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
           << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
           << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << ","
           << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
-          << r.pose.error.alignment_m << "," << r.pose.within(5.0, 0.05) << "," << r.pose.within(2.0, 0.02) << "\n";
+          << r.pose.error.alignment_m << "," << r.pose.within(5.0, 0.05) << "," << r.pose.within(2.0, 0.02) << ","
+          << r.repeatability.repeated << "," << r.repeatability.visible << "\n";
   }
 
   std::ofstream curves = openFile(dir, "curves.csv");
   curves << "scene,sequence,method,ratio,precision,recall\n";
   std::ofstream summary = openFile(dir, "summary.csv");
   summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame,"
-             "success_5deg_5cm,success_2deg_2cm,mean_inliers\n";
+             "success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability\n";
   for (const auto& [key, group] : groups) {
     const auto& [scene, sequence, method] = key;
     std::vector<Candidate> pooled;
@@ -118,7 +123,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); }) << ","
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
             << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
-            << group.mean(success2) << "," << group.mean(inliers) << "\n";
+            << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << "\n";
   }
 
   std::ofstream scale = openFile(dir, "scale.csv");

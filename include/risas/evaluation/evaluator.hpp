@@ -21,6 +21,7 @@ struct PairResult {
   int reference_keypoints = 0, query_keypoints = 0;  // with a 3D point
   int dropped_reference = 0, dropped_query = 0;      // without depth: dropped
   int positives = 0;                                 // query keypoints with a correct counterpart
+  Repeatability repeatability;                       // of the detector, 3 px, under the ground truth
   std::vector<Candidate> candidates;
   double auc = 0.0;
   PrPoint at_ratio;          // precision, recall, correct at the report ratio
@@ -65,7 +66,7 @@ class Evaluator {
 //   summary.csv   per scene, sequence and method: mean PR-AUC, precision,
 //                 recall and correct matches at the report ratio, pose
 //                 success rates at 5 deg / 5 cm and 2 deg / 2 cm, mean
-//                 inliers, ms/frame
+//                 inliers, detector repeatability (3 px), ms/frame
 //   summary.md    per scene type two markdown tables: mean PR-AUC (the best
 //                 of each sequence in bold), and pose recovery
 //   scale.csv     correct-match percentage (correct / matches) per scale step

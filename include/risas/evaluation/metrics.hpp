@@ -4,6 +4,8 @@
 // precision-recall by sweeping the ratio threshold, and its area.
 #pragma once
 
+#include "risas/intrinsics.hpp"
+
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -36,6 +38,23 @@ std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv
 // the recall's denominator.
 int countPositives(const std::vector<cv::Point3f>& query_points, const std::vector<cv::Point3f>& reference_points,
                    const Eigen::Isometry3d& ref_T_query, double d_min);
+
+// Detector repeatability under the ground truth: of the query keypoints
+// whose 3D point, moved into the reference camera by ref_T_query, projects
+// inside the reference image in front of it and agrees with the reference
+// depth there within depth_tolerance metres (seen by both cameras, not
+// occluded), the fraction with a reference keypoint within
+// pixel_tolerance pixels of the projection.
+struct Repeatability {
+  int visible = 0;
+  int repeated = 0;
+  double rate() const { return visible ? static_cast<double>(repeated) / visible : 0.0; }
+};
+Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points,
+                                    const std::vector<cv::Point2f>& reference_pixels,
+                                    const cv::Mat& reference_depth_metres, const Intrinsics& intrinsics,
+                                    const Eigen::Isometry3d& ref_T_query, double pixel_tolerance = 3.0,
+                                    double depth_tolerance = 0.05);
 
 struct PrPoint {
   double ratio;      // threshold: matches with d1/d2 <= ratio
