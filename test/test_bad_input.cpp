@@ -113,6 +113,17 @@ TEST_F(BadFiles, ParameterFilesWithTyposFractionsAndHugeValuesAreRefused) {
   EXPECT_INPUT_ERROR(load("descriptor:\n  shape_orientation: 2\n"), "a flag");
   EXPECT_INPUT_ERROR(load("detector: 3\n"), "section detector is not a map");
   EXPECT_EQ(load("detector:\n  tau: 0.5\n").detector.tau, 0.5);
+  // Text that is no YAML at all: the parser's reason with the line, in one line.
+  write("broken.yml", "%YAML:1.0\ndetector:\n  tau: [0.5\n");
+  try {
+    RisasParams::load(path("broken.yml"));
+    ADD_FAILURE() << "broken YAML accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("broken.yml(3): "), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_EQ(what.find("OpenCV("), std::string::npos) << what;
+  }
   // A root that is not a map, from text (cv::FileStorage::MEMORY).
   cv::FileStorage fs("%YAML:1.0\n---\n[1, 2, 3]\n", cv::FileStorage::READ | cv::FileStorage::MEMORY);
   RisasParams params;

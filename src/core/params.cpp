@@ -97,6 +97,27 @@ void rejectUnknownKeys(const cv::FileNode& node, const std::vector<std::string>&
   }
 }
 
+// cv::Exception's message without its "OpenCV(4.x) file:line: error: (code)"
+// prefix and trailing newline: what the parser says, in one line.
+std::string parserReason(const cv::Exception& e) {
+  std::string m = e.msg;
+  const size_t error = m.find("error: (");
+  const size_t close = error == std::string::npos ? std::string::npos : m.find(") ", error);
+  if (close != std::string::npos) m = m.substr(close + 2);
+  std::replace(m.begin(), m.end(), '\n', ' ');
+  while (!m.empty() && m.back() == ' ') m.pop_back();
+  // "<what> in function '<where>'": FileStorage's parser puts the file, line
+  // and reason in the second part and its own name in the first.
+  const size_t in_function = m.find(" in function '");
+  if (in_function != std::string::npos) {
+    const std::string what = m.substr(0, in_function);
+    std::string where = m.substr(in_function + 14);
+    if (!where.empty() && where.back() == '\'') where.pop_back();
+    m = where.find("): ") != std::string::npos ? where : what;
+  }
+  return m.empty() ? e.err : m;
+}
+
 template <class P>
 void validateFields(const P& params, const char* section) {
   P copy = params;
@@ -185,7 +206,7 @@ RisasParams RisasParams::load(const std::string& path) {
     if (!fs.isOpened()) throw std::runtime_error("cannot open parameter file " + path);
     params.read(fs.root());
   } catch (const cv::Exception& e) {
-    throw std::runtime_error("cannot parse parameter file " + path + ": " + e.err);
+    throw std::runtime_error("cannot parse parameter file " + path + ": " + parserReason(e));
   } catch (const InputError& e) {
     throw InputError("parameter file " + path + ": " + e.what());
   }

@@ -97,6 +97,11 @@ int main(int argc, char** argv) {
     const bool tum = args.has("tum");
     if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
+    {  // the output folder, made and checked before hours of work
+      std::error_code ec;
+      std::filesystem::create_directories(out, ec);
+      risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
+    }
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const risas::Intrinsics intrinsics = tum ? risas::cli::intrinsicsFrom(args) : risas::findIntrinsics(root);
 
