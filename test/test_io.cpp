@@ -61,14 +61,33 @@ TEST(ParamsFile, PartialFileKeepsDefaultsAndBadFilesAreErrors) {
   EXPECT_THROW(RisasParams::load(dir.file("missing.yml")), std::runtime_error);
 }
 
+// Every field of the parameters, as a parameter file writes them.
+std::string paramsText(const RisasParams& p) {
+  cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  p.write(fs);
+  return fs.releaseAndGetString();
+}
+
+// config/paper.yaml loads and selects the paper's choices where the
+// defaults depart from them (docs/method.md), nothing else.
+TEST(Params, PaperYamlSelectsThePapersChoices) {
+  const RisasParams paper = RisasParams::load(RISAS_SOURCE_DIR "/config/paper.yaml");
+  EXPECT_EQ(paper.descriptor.support_radius, 0.0);  // eq. 3-4
+  EXPECT_TRUE(paper.descriptor.shape_orientation);  // eq. 7
+  EXPECT_EQ(paper.descriptor.patch_radius, 20);
+  EXPECT_EQ(paper.geometry.normal_stride, 1);
+  RisasParams expected;  // the defaults with those fields changed, and no other
+  expected.geometry.normal_stride = 1;
+  expected.detector.gray_sigma = 0.7, expected.detector.dp_sigma = 5.0, expected.detector.window_sigma = 1.0;
+  expected.detector.nms_radius = 1;
+  expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
+  expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;
+  EXPECT_EQ(paramsText(paper), paramsText(expected));
+}
+
 // The shipped config/risas.yaml is the library's defaults, field for field.
 TEST(ParamsFile, ShippedConfigEqualsTheDefaults) {
-  const auto text = [](const RisasParams& p) {
-    cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-    p.write(fs);
-    return fs.releaseAndGetString();
-  };
-  EXPECT_EQ(text(RisasParams::load(RISAS_SOURCE_DIR "/config/risas.yaml")), text(RisasParams()));
+  EXPECT_EQ(paramsText(RisasParams::load(RISAS_SOURCE_DIR "/config/risas.yaml")), paramsText(RisasParams()));
 }
 
 TEST(IntrinsicsFile, ReadsTheDatasetFormatAndRejectsOthers) {
