@@ -3,6 +3,7 @@
 // errors for what is wrong, on small sequences written by the test.
 #include "risas/errors.hpp"
 #include "risas/evaluation/protocol.hpp"
+#include "risas/evaluation/trajectory.hpp"
 #include "risas/tum_sequence.hpp"
 
 #include <gtest/gtest.h>
@@ -124,6 +125,54 @@ TEST_F(Tum, MissingAndMalformedFilesAreNamed) {
   fs::remove(dir_ / "rgb.txt");
   EXPECT_NE(errorOf([&] { readTumSequence(dir()); }).find("no rgb.txt in"), std::string::npos);
   EXPECT_NE(errorOf([&] { readTumSequence((dir_ / "nope").string()); }).find("no folder"), std::string::npos);
+}
+
+// Ten poses about 0.1 m apart, mostly along x, turning 2 degrees about y each.
+std::vector<StampedPose> line() {
+  std::vector<StampedPose> poses;
+  for (int k = 0; k < 10; ++k) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(k * 2.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(0.1 * k, 0.03 * (k % 4), 1.0 + 0.05 * (k % 3));  // not on one line
+    poses.push_back({100.0 + 0.1 * k, T});
+  }
+  return poses;
+}
+
+TEST_F(Tum, TrajectoriesRoundTripAndTheirErrorIsTheBenchmarks) {
+  const std::vector<StampedPose> truth = line();
+  writeTumTrajectory(dir() + "/t.txt", truth);
+  const std::vector<StampedPose> back = readTumTrajectory(dir() + "/t.txt");
+  ASSERT_EQ(back.size(), truth.size());
+  for (size_t k = 0; k < truth.size(); ++k) {
+    EXPECT_NEAR(back[k].stamp, truth[k].stamp, 1e-6);
+    EXPECT_TRUE(back[k].world_T_camera.isApprox(truth[k].world_T_camera, 1e-6));
+  }
+  // An estimate in another world frame: no error once aligned, none relative.
+  const Eigen::Isometry3d G = Eigen::Translation3d(1.0, -2.0, 0.5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+  std::vector<StampedPose> moved = truth;
+  for (StampedPose& p : moved) p.world_T_camera = G * p.world_T_camera;
+  eval::TrajectoryError e = eval::trajectoryError(eval::associate(moved, truth), 1);
+  EXPECT_EQ(e.poses, 10);
+  EXPECT_LT(e.ate_rmse, 1e-9);
+  EXPECT_LT(e.rpe_translation_rmse, 1e-9);
+  EXPECT_LT(e.rpe_rotation_rmse_deg, 1e-6);
+  EXPECT_TRUE(e.truth_T_estimate.isApprox(G.inverse(), 1e-9));
+  // One pose 10 cm off in y: the two pairs through it are 10 cm wrong,
+  // RPE = sqrt(2 x 0.01 / 9).
+  std::vector<StampedPose> bumped = truth;
+  bumped[5].world_T_camera.translation().y() += 0.1;
+  e = eval::trajectoryError(eval::associate(bumped, truth), 1);
+  EXPECT_EQ(e.rpe_pairs, 9);
+  EXPECT_NEAR(e.rpe_translation_rmse, std::sqrt(2 * 0.01 / 9), 1e-9);
+  EXPECT_NEAR(e.rpe_rotation_rmse_deg, 0.0, 1e-6);
+  EXPECT_GT(e.ate_max, 0.05);
+  // Stamps 5 ms off still associate; fewer than 3 poses is an error.
+  for (StampedPose& p : moved) p.stamp += 0.005;
+  EXPECT_EQ(eval::associate(moved, truth).estimate.size(), 10u);
+  EXPECT_THROW(eval::trajectoryError(eval::associate({moved[0], moved[1]}, truth)), InputError);
+  write("bad.txt", "100.0 1 2 3\n");
+  EXPECT_NE(errorOf([&] { readTumTrajectory(dir() + "/bad.txt"); }).find("bad.txt line 1"), std::string::npos);
 }
 
 }  // namespace

@@ -32,6 +32,18 @@ struct TumSequence {
   int without_pose = 0;          // frames with no ground truth near them
 };
 
+// A pose at a time stamp: one line of a TUM trajectory file.
+struct StampedPose {
+  double stamp;
+  Eigen::Isometry3d world_T_camera;
+};
+
+// A file of "timestamp tx ty tz qx qy qz qw" lines ('#' lines are
+// comments; quaternions are normalised): groundtruth.txt, or an estimate.
+// InputError naming the file and line when unreadable or malformed.
+std::vector<StampedPose> readTumTrajectory(const std::string& path);
+void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+
 // Reads the folder: colour and depth paired as the benchmark's associate.py
 // does (closest stamps first, each used once, |difference| < max_difference
 // seconds), each pair given the pose at the nearest ground-truth stamp if it

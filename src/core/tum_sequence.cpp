@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace risas {
@@ -74,6 +75,37 @@ Listed readList(const fs::path& dir, const char* name) {
 
 }  // namespace
 
+std::vector<StampedPose> readTumTrajectory(const std::string& path_name) {
+  const fs::path path(path_name);
+  std::vector<StampedPose> poses;
+  for (const Line& line : readLines(path)) {
+    if (line.fields.size() != 8) {
+      throw InputError(path.string() + " line " + std::to_string(line.number) + ": expected 'timestamp tx ty tz qx qy qz qw'");
+    }
+    double v[8];
+    for (size_t f = 0; f < 8; ++f) v[f] = number(path, line, f);
+    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    if (!(q.norm() > 1e-6)) throw InputError(path.string() + " line " + std::to_string(line.number) + ": the quaternion is zero");
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q.normalized().toRotationMatrix();
+    T.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+    poses.push_back({v[0], T});
+  }
+  return poses;
+}
+
+void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
+  std::ofstream out(path);
+  if (!out) throw InputError("cannot write trajectory " + path);
+  out << "# timestamp tx ty tz qx qy qz qw\n" << std::fixed;
+  for (const StampedPose& p : poses) {
+    const Eigen::Quaterniond q(p.world_T_camera.linear());
+    const Eigen::Vector3d t = p.world_T_camera.translation();
+    out << std::setprecision(6) << p.stamp << std::setprecision(7) << " " << t.x() << " " << t.y() << " " << t.z()
+        << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << "\n";
+  }
+}
+
 std::vector<std::pair<size_t, size_t>> associateStamps(const std::vector<double>& a, const std::vector<double>& b,
                                                        double max_difference) {
   struct Candidate {
@@ -115,21 +147,9 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
   std::vector<Eigen::Isometry3d> poses;
   const fs::path gt = dir / "groundtruth.txt";
   if (fs::exists(gt)) {
-    for (const Line& line : readLines(gt)) {
-      if (line.fields.size() != 8) {
-        throw InputError(gt.string() + " line " + std::to_string(line.number) + ": expected 'timestamp tx ty tz qx qy qz qw'");
-      }
-      double v[8];
-      for (size_t f = 0; f < 8; ++f) v[f] = number(gt, line, f);
-      Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-      if (!(q.norm() > 1e-6)) {
-        throw InputError(gt.string() + " line " + std::to_string(line.number) + ": the quaternion is zero");
-      }
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = q.normalized().toRotationMatrix();
-      T.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
-      pose_stamps.push_back(v[0]);
-      poses.push_back(T);
+    for (const StampedPose& p : readTumTrajectory(gt.string())) {
+      pose_stamps.push_back(p.stamp);
+      poses.push_back(p.world_T_camera);
     }
   }
   std::vector<size_t> by_stamp(pose_stamps.size());

@@ -5,48 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iomanip>
-#include <sstream>
 
 namespace risas::eval {
-
-std::vector<StampedPose> readTrajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open trajectory " + path);
-  std::vector<StampedPose> poses;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double v[8];
-    for (double& x : v) {
-      if (!(fields >> x) || !std::isfinite(x)) {
-        throw InputError(path + " line " + std::to_string(number) + ": expected 'timestamp tx ty tz qx qy qz qw'");
-      }
-    }
-    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (!(q.norm() > 1e-6)) throw InputError(path + " line " + std::to_string(number) + ": the quaternion is zero");
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = q.normalized().toRotationMatrix();
-    T.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
-    poses.push_back({v[0], T});
-  }
-  return poses;
-}
-
-void writeTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
-  std::ofstream out(path);
-  if (!out) throw InputError("cannot write trajectory " + path);
-  out << "# timestamp tx ty tz qx qy qz qw\n" << std::fixed;
-  for (const StampedPose& p : poses) {
-    const Eigen::Quaterniond q(p.world_T_camera.linear());
-    const Eigen::Vector3d t = p.world_T_camera.translation();
-    out << std::setprecision(6) << p.stamp << std::setprecision(7) << " " << t.x() << " " << t.y() << " " << t.z()
-        << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << "\n";
-  }
-}
 
 AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,
                                double max_difference) {

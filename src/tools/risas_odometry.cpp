@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     const auto risas = risas::Risas::create(params);
     const cv::Ptr<cv::ORB> orb = cv::ORB::create(1000);
     risas::Odometry odometry(params.odometry, params.match, params.motion);
-    std::vector<risas::eval::StampedPose> trajectory;
+    std::vector<risas::StampedPose> trajectory;
     std::ofstream frames_csv;
     if (args.has("frames")) {
       frames_csv.open(args.get("frames"));
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
                    << r.matches << "," << r.inliers << "," << r.rmse << "\n";
       }
     }
-    risas::eval::writeTrajectory(out, trajectory);
+    risas::writeTumTrajectory(out, trajectory);
     std::cout << features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
               << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes()
               << " keyframes; trajectory written to " << out << "\n";
@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     const std::filesystem::path gt = std::filesystem::path(args.get("tum")) / "groundtruth.txt";
     if (std::filesystem::exists(gt)) {
       const risas::eval::TrajectoryError e = risas::eval::trajectoryError(
-          risas::eval::associate(trajectory, risas::eval::readTrajectory(gt.string())), args.getInt("delta", 1));
+          risas::eval::associate(trajectory, risas::readTumTrajectory(gt.string())), args.getInt("delta", 1));
       std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
                 << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n"
                 << "RPE (" << args.getInt("delta", 1) << " frame) translation RMSE " << e.rpe_translation_rmse

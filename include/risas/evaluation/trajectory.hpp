@@ -5,6 +5,8 @@
 // frames a fixed number of frames apart.
 #pragma once
 
+#include "risas/tum_sequence.hpp"
+
 #include <Eigen/Geometry>
 
 #include <string>
@@ -12,14 +14,7 @@
 
 namespace risas::eval {
 
-struct StampedPose {
-  double stamp;
-  Eigen::Isometry3d world_T_camera;
-};
-
-// InputError naming the file and line when unreadable or malformed.
-std::vector<StampedPose> readTrajectory(const std::string& path);
-void writeTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+using risas::StampedPose;  // files: risas::readTumTrajectory, writeTumTrajectory
 
 // Estimate and ground-truth poses at the same moments: each estimate stamp
 // with the nearest ground-truth stamp within max_difference seconds
