@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config libgtest-dev libeigen3-dev libopencv-dev
   ros-core-dev rosbash python3-rostest catkin
-  libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view
+  libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view libimage-view-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   python3-sensor-msgs libtf2-ros-dev libopenni2-dev libcamera-info-manager-dev
   libpcl-dev python3-matplotlib
