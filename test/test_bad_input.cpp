@@ -1,6 +1,8 @@
 // Issue 20's defects, each as found: what once crashed, read out of bounds,
 // was accepted as garbage or was reported wrongly now gives one clear
 // InputError (or works). Run under ASan+UBSan by scripts/test.sh.
+#include "input_error.hpp"
+
 #include "risas/errors.hpp"
 #include "risas/io.hpp"
 #include "risas/params.hpp"
@@ -16,16 +18,7 @@
 namespace risas {
 namespace {
 
-template <class F>
-std::string inputErrorOf(F&& call) {
-  try {
-    call();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return {};
-}
+using test::inputErrorOf;
 
 #define EXPECT_INPUT_ERROR(call, fragment)                                         \
   do {                                                                             \

@@ -1,6 +1,8 @@
 // TUM RGB-D folders (issue 16): parsing, association of colour, depth and
 // ground truth by nearest stamp, the pairs of the evaluation, and clear
 // errors for what is wrong, on small sequences written by the test.
+#include "input_error.hpp"
+
 #include "risas/errors.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"
@@ -56,15 +58,7 @@ class Tum : public ::testing::Test {
   fs::path dir_;
 };
 
-template <class F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no InputError";
-}
+const auto errorOf = [](auto&& call) { return test::inputErrorOf(call); };
 
 TEST_F(Tum, PairsColourAndDepthByNearestStampAndTakesTheNearestPose) {
   const TumSequence s = readTumSequence(dir());

@@ -45,6 +45,10 @@ struct OdometryResult {
 // degenerate sets (collinear points) give large, finite variances.
 Eigen::Matrix<double, 6, 6> motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse);
 
+// A covariance in (x, y, z, rotation x, y, z) of frame A expressed in frame
+// B, given R_BA: both blocks rotated, R C R^T with R = diag(R_BA, R_BA).
+Eigen::Matrix<double, 6, 6> rotateCovariance(const Eigen::Matrix<double, 6, 6>& covariance, const Eigen::Matrix3d& R);
+
 class Odometry {
  public:
   Odometry(const OdometryParams& params = OdometryParams(), const MatchParams& match = MatchParams(),

@@ -18,16 +18,14 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return m;
 }
 
-// A covariance of a motion expressed in frame A moved into frame W by the
-// rotation R_WA (translation and rotation parts alike).
-Matrix6 rotated(const Matrix6& c, const Eigen::Matrix3d& R) {
+}  // namespace
+
+Matrix6 rotateCovariance(const Matrix6& covariance, const Eigen::Matrix3d& R) {
   Matrix6 big = Matrix6::Zero();
   big.topLeftCorner<3, 3>() = R;
   big.bottomRightCorner<3, 3>() = R;
-  return big * c * big.transpose();
+  return big * covariance * big.transpose();
 }
-
-}  // namespace
 
 Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse) {
   Matrix6 H = Matrix6::Zero();
@@ -151,7 +149,7 @@ OdometryResult Odometry::track(const Features& features) {
   pose_ = keyframe_.world_T_camera * key_T_frame;
   r.tracked = true;
   r.world_T_camera = pose_;
-  r.covariance = keyframe_.covariance + rotated(increment, keyframe_.world_T_camera.linear());
+  r.covariance = keyframe_.covariance + rotateCovariance(increment, keyframe_.world_T_camera.linear());
   covariance_ = r.covariance;
 
   const double moved = key_T_frame.translation().norm();

@@ -174,6 +174,13 @@ geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
   return t;
 }
 
+Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return T;
+}
+
 RisasParams paramsFromServer(const ros::NodeHandle& nh) {
   RisasParams params;
   visitSections(params, [&nh](const char* section, auto& fields) {

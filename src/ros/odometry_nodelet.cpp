@@ -48,13 +48,6 @@ geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
   return p;
 }
 
-Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  return T;
-}
-
 }  // namespace
 
 class OdometryNodelet : public nodelet::Nodelet {
@@ -142,13 +135,9 @@ class OdometryNodelet : public nodelet::Nodelet {
     odom.header.frame_id = odom_frame_;
     odom.child_frame_id = child;
     odom.pose.pose = toPose(odom_T_child);
-    Eigen::Matrix<double, 6, 6> covariance = r.covariance;
-    if (!base_frame_.empty() && r.tracked) {  // the camera's covariance in the base's axes
-      Eigen::Matrix<double, 6, 6> R = Eigen::Matrix<double, 6, 6>::Zero();
-      R.topLeftCorner<3, 3>() = T_bc.linear();
-      R.bottomRightCorner<3, 3>() = T_bc.linear();
-      covariance = R * covariance * R.transpose();
-    }
+    // The camera's covariance in the base's axes.
+    const Eigen::Matrix<double, 6, 6> covariance =
+        !base_frame_.empty() && r.tracked ? risas::rotateCovariance(r.covariance, T_bc.linear()) : r.covariance;
     for (int i = 0; i < 6; ++i) {
       for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
     }

@@ -68,12 +68,7 @@ class Recorder {
   ros::Subscriber sub_;
 };
 
-Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  return T;
-}
+using risas_ros::fromTransform;
 
 bool setIntParameter(const std::string& node, const std::string& name, int value) {
   dynamic_reconfigure::Reconfigure srv;
@@ -160,8 +155,8 @@ TEST_F(Pipeline, MotionAgreesWithTheSyntheticGroundTruth) {
     } catch (const tf2::TransformException&) {
       continue;  // this test subscribed to tf after these frames
     }
-    const Eigen::Isometry3d truth = toEigen(world_T_previous.transform).inverse() * toEigen(world_T_current.transform);
-    const Eigen::Isometry3d error = truth.inverse() * toEigen(m->transform);
+    const Eigen::Isometry3d truth = fromTransform(world_T_previous.transform).inverse() * fromTransform(world_T_current.transform);
+    const Eigen::Isometry3d error = truth.inverse() * fromTransform(m->transform);
     rotation_errors.push_back(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);
     translation_errors.push_back(error.translation().norm());
     EXPECT_EQ(m->header.frame_id, m->child_frame_id + "_previous");
@@ -235,13 +230,13 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
     geometry_msgs::Transform t;
     t.translation.x = o.pose.pose.position.x, t.translation.y = o.pose.pose.position.y;
     t.translation.z = o.pose.pose.position.z, t.rotation = o.pose.pose.orientation;
-    return toEigen(t);
+    return fromTransform(t);
   };
   EXPECT_TRUE(pose(*run.front()).isApprox(Eigen::Isometry3d::Identity(), 1e-9)) << "a reset did not return to identity";
   EXPECT_EQ(run.front()->header.frame_id, "odom");
   EXPECT_EQ(run.front()->child_frame_id, "camera_rgb_optical_frame");
   const Eigen::Isometry3d world_T_start =
-      toEigen(buffer.lookupTransform("world", "camera_rgb_optical_frame", run.front()->header.stamp, ros::Duration(2.0)).transform);
+      fromTransform(buffer.lookupTransform("world", "camera_rgb_optical_frame", run.front()->header.stamp, ros::Duration(2.0)).transform);
   double worst_translation = 0.0, worst_rotation = 0.0;
   int lost = 0;
   for (const auto& o : run) {
@@ -251,7 +246,7 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
     }
     const Eigen::Isometry3d truth =
         world_T_start.inverse() *
-        toEigen(buffer.lookupTransform("world", o->child_frame_id, o->header.stamp, ros::Duration(2.0)).transform);
+        fromTransform(buffer.lookupTransform("world", o->child_frame_id, o->header.stamp, ros::Duration(2.0)).transform);
     const Eigen::Isometry3d error = truth.inverse() * pose(*o);
     worst_translation = std::max(worst_translation, error.translation().norm());
     worst_rotation = std::max(worst_rotation, Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);

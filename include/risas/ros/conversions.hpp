@@ -47,6 +47,8 @@ KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& hea
 Features fromMessage(const KeypointArray& message);
 
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
+// The inverse: the quaternion normalised.
+Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
 
 // RisasParams from the parameter server, nested as in config/risas.yaml
 // (~detector/tau, ~descriptor/n_bin, ...); absent values keep their defaults.
