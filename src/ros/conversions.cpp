@@ -3,7 +3,9 @@
 #include "risas/errors.hpp"
 #include "risas/params_fields.hpp"
 
+#include <image_geometry/pinhole_camera_model.h>
 #include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
 #include <cstring>
@@ -18,10 +20,19 @@ using risas::Keypoint;
 namespace enc = sensor_msgs::image_encodings;
 
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
-  if (std::all_of(info.K.begin(), info.K.end(), [](double k) { return k == 0.0; })) {
-    throw InputError("camera_info has an all-zero K: the camera is not calibrated");
+  const auto all_zero = [](const auto& m) { return std::all_of(m.begin(), m.end(), [](double v) { return v == 0.0; }); };
+  if (all_zero(info.P)) {
+    if (all_zero(info.K)) throw InputError("camera_info has an all-zero K and P: the camera is not calibrated");
+    return Intrinsics::fromMatrix(cv::Matx33d(info.K.data()));  // a driver that fills only K
   }
-  return Intrinsics::fromMatrix(cv::Matx33d(info.K.data()));
+  image_geometry::PinholeCameraModel model;
+  try {
+    model.fromCameraInfo(info);
+  } catch (const std::exception& e) {
+    throw InputError(std::string("camera_info cannot be read as a pinhole camera: ") + e.what());
+  }
+  const cv::Matx34d& P = model.projectionMatrix();
+  return Intrinsics::fromMatrix(cv::Matx33d(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2)));
 }
 
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, cv::Size size) {
@@ -161,24 +172,29 @@ Features fromMessage(const KeypointArray& message) {
   return features;
 }
 
-geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
-  geometry_msgs::Transform t;
-  t.translation.x = T.translation().x();
-  t.translation.y = T.translation().y();
-  t.translation.z = T.translation().z();
-  const Eigen::Quaterniond q(T.linear());
-  t.rotation.x = q.x();
-  t.rotation.y = q.y();
-  t.rotation.z = q.z();
-  t.rotation.w = q.w();
-  return t;
-}
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) { return tf2::eigenToTransform(T).transform; }
 
 Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  return T;
+  geometry_msgs::Transform unit = t;  // tf2 does not normalise the quaternion
+  unit.rotation = tf2::toMsg(Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized());
+  return tf2::transformToEigen(unit);
+}
+
+void checkImageTransport(const std::string& transport, const std::string& parameter, bool depth,
+                         const std::vector<std::string>& loadable) {
+  static const std::vector<std::string> lossy = {"compressed", "theora", "ffmpeg", "h264", "h265"};
+  if (depth && std::find(lossy.begin(), lossy.end(), transport) != lossy.end()) {
+    throw std::invalid_argument(parameter + " '" + transport +
+                                "' is lossy and would change depth values: use raw or compressedDepth");
+  }
+  std::string installed;
+  for (const std::string& name : loadable) {
+    const std::string base = name.substr(name.rfind('/') + 1);  // "image_transport/raw" -> "raw"
+    if (base == transport) return;
+    installed += (installed.empty() ? "" : ", ") + base;
+  }
+  throw std::invalid_argument(parameter + " '" + transport + "' is not installed (installed: " +
+                              (installed.empty() ? "none" : installed) + ")");
 }
 
 RisasParams paramsFromServer(const ros::NodeHandle& nh) {

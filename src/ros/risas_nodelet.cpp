@@ -7,7 +7,10 @@
 //   ~motion     geometry_msgs/TransformStamped: the current camera frame in
 //               the previous one (p_previous = T p_current), child_frame_id
 //               the camera frame, frame_id the camera frame + "_previous"
-// It subscribes only while someone listens (unless ~always_subscribe).
+// It subscribes only while someone listens (unless ~always_subscribe), with
+// the transports ~image_transport (colour) and ~depth_image_transport (depth),
+// both raw by default; a lossy depth transport or one that is not installed
+// stops the nodelet at start with an error naming it.
 #include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
@@ -18,7 +21,9 @@
 #include "risas/ros/reconfigure.hpp"
 
 #include <risas/KeypointArray.h>
-#include <risas/RisasConfig.h>
+#include <risas/RisasDescriptorConfig.h>
+#include <risas/RisasDetectorConfig.h>
+#include <risas/RisasMatchConfig.h>
 
 #include <cv_bridge/cv_bridge.h>
 #include <dynamic_reconfigure/server.h>
@@ -44,7 +49,6 @@ namespace risas_ros {
 using risas::InputError;
 using risas::MotionEstimate;
 using risas::Risas;
-using risas::RisasConfig;
 
 namespace {
 
@@ -82,14 +86,20 @@ class RisasNodelet : public nodelet::Nodelet {
     queue_size_ = pnh.param("queue_size", 5);
     always_subscribe_ = pnh.param("always_subscribe", false);
     const bool approximate = pnh.param("approximate_sync", true);
+    rgb_it_ = std::make_unique<image_transport::ImageTransport>(nh);
     try {
       setup_ = std::make_shared<const Setup>(paramsFromServer(pnh));
+      // As depth_image_proc: ~image_transport for colour, ~depth_image_transport for depth.
+      const std::vector<std::string> loadable = rgb_it_->getLoadableTransports();
+      rgb_hints_.emplace("raw", ros::TransportHints(), pnh, "image_transport");
+      depth_hints_.emplace("raw", ros::TransportHints(), pnh, "depth_image_transport");
+      checkImageTransport(rgb_hints_->getTransport(), "image_transport", false, loadable);
+      checkImageTransport(depth_hints_->getTransport(), "depth_image_transport", true, loadable);
     } catch (const std::invalid_argument& e) {
       NODELET_FATAL("invalid RISAS parameter: %s", e.what());
       throw;
     }
 
-    rgb_it_ = std::make_unique<image_transport::ImageTransport>(nh);
     if (approximate) {
       approximate_sync_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(
           ApproximatePolicy(queue_size_), sub_rgb_, sub_depth_, sub_info_);
@@ -110,11 +120,10 @@ class RisasNodelet : public nodelet::Nodelet {
       pub_image_ = private_it.advertise("image", 1, connect, connect);
     }
 
-    // Seed the server with the parameter server's values so the .cfg
-    // defaults never overwrite them, then listen for changes.
-    reconfigure_ = std::make_unique<dynamic_reconfigure::Server<RisasConfig>>(reconfigure_mutex_, pnh);
-    reconfigure_->updateConfig(toConfig(setup_->params));
-    reconfigure_->setCallback([this](RisasConfig& c, uint32_t) { reconfigure(c); });
+    // One server per section, on its namespace: ~detector/tau is one name.
+    serveSection(detector_server_, "detector", &RisasParams::detector);
+    serveSection(descriptor_server_, "descriptor", &RisasParams::descriptor);
+    serveSection(match_server_, "match", &RisasParams::match);
 
     watchdog_ = pnh.createWallTimer(ros::WallDuration(5.0), [this](const ros::WallTimerEvent&) { watchdog(); });
     connectCb();
@@ -126,10 +135,8 @@ class RisasNodelet : public nodelet::Nodelet {
                         pub_motion_.getNumSubscribers() > 0 || pub_image_.getNumSubscribers() > 0;
     if (wanted == subscribed_) return;
     if (wanted) {
-      const image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
-      sub_rgb_.subscribe(*rgb_it_, "rgb/image_rect_color", queue_size_, hints);
-      // Depth always raw: lossy transports would corrupt it.
-      sub_depth_.subscribe(*rgb_it_, "depth_registered/image_raw", queue_size_, image_transport::TransportHints("raw"));
+      sub_rgb_.subscribe(*rgb_it_, "rgb/image_rect_color", queue_size_, *rgb_hints_);
+      sub_depth_.subscribe(*rgb_it_, "depth_registered/image_raw", queue_size_, *depth_hints_);
       sub_info_.subscribe(getNodeHandle(), "rgb/camera_info", queue_size_);
       last_frame_ = ros::WallTime::now();
       NODELET_DEBUG("subscribed to %s, %s, %s", sub_rgb_.getTopic().c_str(), sub_depth_.getTopic().c_str(),
@@ -144,17 +151,37 @@ class RisasNodelet : public nodelet::Nodelet {
     subscribed_ = wanted;
   }
 
-  void reconfigure(RisasConfig& config) {
-    const RisasParams params = applyConfig(config, current()->params);
+  // Starts the dynamic_reconfigure server of one section on ~<name>, seeded
+  // with the parameter server's values so the .cfg defaults never overwrite
+  // them. A change the library rejects (e.g. a descriptor over 2,048
+  // dimensions) is logged and undone in the server too.
+  template <class Config, class Section>
+  void serveSection(std::unique_ptr<dynamic_reconfigure::Server<Config>>& server, const std::string& name,
+                    Section RisasParams::*section) {
+    server = std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_,
+                                                                   ros::NodeHandle(getPrivateNodeHandle(), name));
+    server->updateConfig(toConfig<Config>(current()->params.*section));
+    server->setCallback([this, section](Config& config, uint32_t) {
+      RisasParams params = current()->params;
+      const Section before = params.*section;
+      params.*section = applyConfig(config, before);
+      if (!reconfigure(params)) config = toConfig<Config>(before);
+    });
+  }
+
+  // Replaces the setup; false (logged) when the library rejects `params`.
+  bool reconfigure(const RisasParams& params) {
     try {
       auto setup = std::make_shared<const Setup>(params);
       std::lock_guard<std::mutex> lock(setup_mutex_);
       setup_ = std::move(setup);
-      NODELET_INFO("reconfigured: tau %.2f, gamma %.2f, n_pie %d, n_bin %d, n_vec %d (descriptor_dim %d)",
+      NODELET_INFO("reconfigured: tau %.2f, gamma %.2f, n_pie %d, n_bin %d, n_vec %d, n_ring %d (descriptor_dim %d)",
                    params.detector.tau, params.descriptor.gamma, params.descriptor.n_pie, params.descriptor.n_bin,
-                   params.descriptor.n_vec, params.descriptor.dimension());
+                   params.descriptor.n_vec, params.descriptor.n_ring, params.descriptor.dimension());
+      return true;
     } catch (const std::invalid_argument& e) {
-      NODELET_ERROR("reconfiguration rejected: %s", e.what());
+      NODELET_ERROR("reconfiguration rejected, parameters kept: %s", e.what());
+      return false;
     }
   }
 
@@ -222,6 +249,7 @@ class RisasNodelet : public nodelet::Nodelet {
 
   // Subscriptions and their synchronisation.
   std::unique_ptr<image_transport::ImageTransport> rgb_it_;
+  std::optional<image_transport::TransportHints> rgb_hints_, depth_hints_;
   image_transport::SubscriberFilter sub_rgb_, sub_depth_;
   message_filters::Subscriber<CameraInfo> sub_info_;
   std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
@@ -239,8 +267,10 @@ class RisasNodelet : public nodelet::Nodelet {
 
   mutable std::mutex setup_mutex_;
   std::shared_ptr<const Setup> setup_;
-  boost::recursive_mutex reconfigure_mutex_;
-  std::unique_ptr<dynamic_reconfigure::Server<RisasConfig>> reconfigure_;
+  boost::recursive_mutex reconfigure_mutex_;  // one for the three servers: changes apply one at a time
+  std::unique_ptr<dynamic_reconfigure::Server<risas::RisasDetectorConfig>> detector_server_;
+  std::unique_ptr<dynamic_reconfigure::Server<risas::RisasDescriptorConfig>> descriptor_server_;
+  std::unique_ptr<dynamic_reconfigure::Server<risas::RisasMatchConfig>> match_server_;
 
   LogThrottle input_errors_{5.0};
   std::mutex frame_mutex_;  // frames are matched in arrival order, one at a time

@@ -6,6 +6,10 @@
 #include "risas/ros/log_throttle.hpp"
 #include "risas/ros/reconfigure.hpp"
 
+#include <risas/RisasDescriptorConfig.h>
+#include <risas/RisasDetectorConfig.h>
+#include <risas/RisasMatchConfig.h>
+
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
@@ -137,9 +141,10 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "camera_info is for 320x480");
   m = good;
   m.info.K.fill(0.0);
+  m.info.P.fill(0.0);
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "not calibrated");
   m = good;
-  m.info.K[0] = -5.0;
+  m.info.P[0] = -5.0;
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "focal lengths");
   m = good;
   m.rgb.data.resize(100);  // step x height no longer matches the buffer
@@ -147,6 +152,53 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   m = good;
   m.depth.step = 100;  // shorter than a row of 640 16-bit pixels
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image message is malformed");
+}
+
+// A camera calibrated with distortion: the rectified image's projection P
+// differs from the raw image's K, and rectified images need P (as
+// image_geometry::PinholeCameraModel says). Without P, K is what there is.
+TEST(Conversions, IntrinsicsOfARectifiedImageAreItsProjectionNotK) {
+  Messages m = render();
+  m.info.distortion_model = "plumb_bob";
+  m.info.D = {-0.28, 0.07, 0.001, -0.0005, 0.0};
+  m.info.K = {580.0, 0.0, 322.0, 0.0, 578.0, 243.0, 0.0, 0.0, 1.0};
+  m.info.P = {525.0, 0.0, 319.5, 0.0, 0.0, 526.0, 239.5, 0.0, 0.0, 0.0, 1.0, 0.0};
+  const risas::Intrinsics from_p = frameFromMessages(m.rgb, m.depth, m.info).intrinsics();
+  EXPECT_EQ(from_p.fx, 525.0);
+  EXPECT_EQ(from_p.fy, 526.0);
+  EXPECT_EQ(from_p.cx, 319.5);
+  EXPECT_EQ(from_p.cy, 239.5);
+  m.info.P.fill(0.0);
+  const risas::Intrinsics from_k = frameFromMessages(m.rgb, m.depth, m.info).intrinsics();
+  EXPECT_EQ(from_k.fx, 580.0);
+  EXPECT_EQ(from_k.cy, 243.0);
+  m.info.P = {525.0, 3.0, 319.5, 0.0, 0.0, 526.0, 239.5, 0.0, 0.0, 0.0, 1.0, 0.0};  // skewed
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "not a pinhole");
+}
+
+TEST(Transports, LossyDepthAndUninstalledTransportsAreRefusedByName) {
+  const std::vector<std::string> debian = {"image_transport/raw"};
+  const std::vector<std::string> wifi = {"image_transport/raw", "compressed_image_transport/compressed",
+                                         "compressed_depth_image_transport/compressedDepth"};
+  EXPECT_NO_THROW(checkImageTransport("raw", "image_transport", false, debian));
+  EXPECT_NO_THROW(checkImageTransport("raw", "depth_image_transport", true, debian));
+  EXPECT_NO_THROW(checkImageTransport("compressed", "image_transport", false, wifi));
+  EXPECT_NO_THROW(checkImageTransport("compressedDepth", "depth_image_transport", true, wifi));
+  const auto message = [](const std::string& transport, bool depth, const std::vector<std::string>& loadable) {
+    try {
+      checkImageTransport(transport, depth ? "depth_image_transport" : "image_transport", depth, loadable);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(message("compressed", true, wifi),
+            "depth_image_transport 'compressed' is lossy and would change depth values: use raw or compressedDepth");
+  EXPECT_NE(message("theora", true, wifi).find("'theora' is lossy"), std::string::npos);
+  EXPECT_EQ(message("compressedDepth", true, debian),
+            "depth_image_transport 'compressedDepth' is not installed (installed: raw)");
+  EXPECT_EQ(message("jpeg", false, wifi),
+            "image_transport 'jpeg' is not installed (installed: raw, compressed, compressedDepth)");
 }
 
 TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
@@ -174,29 +226,71 @@ TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
   EXPECT_THROW(fromMessage(*message), risas::InputError);
 }
 
-TEST(Reconfigure, CfgDefaultsAreTheLibraryDefaultsAndMapBothWays) {
-  const risas::RisasParams defaults;
-  const risas::RisasConfig from_cfg = risas::RisasConfig::__getDefault__();
-  const risas::RisasConfig from_params = toConfig(defaults);
-  EXPECT_EQ(from_cfg.tau, from_params.tau);
-  EXPECT_EQ(from_cfg.response_threshold, from_params.response_threshold);
-  EXPECT_EQ(from_cfg.max_keypoints, from_params.max_keypoints);
-  EXPECT_EQ(from_cfg.gamma, from_params.gamma);
-  EXPECT_EQ(from_cfg.n_pie, from_params.n_pie);
-  EXPECT_EQ(from_cfg.n_bin, from_params.n_bin);
-  EXPECT_EQ(from_cfg.n_vec, from_params.n_vec);
-  EXPECT_EQ(from_cfg.rho_threshold, from_params.rho_threshold);
-  EXPECT_EQ(from_cfg.support_radius, from_params.support_radius);
-  EXPECT_EQ(from_cfg.ratio, from_params.ratio);
+// Each .cfg field against its namesake in params_fields.hpp: it exists, and
+// its default and range are the library's. Returns the names checked.
+template <class Config, class Section>
+std::vector<std::string> expectCfgMatchesLibrary(Section defaults) {
+  const Config cfg_default = Config::__getDefault__();
+  const Config cfg_min = Config::__getMin__();
+  const Config cfg_max = Config::__getMax__();
+  std::vector<std::string> names;
+  for (const auto& d : Config::__getParamDescriptions__()) {
+    names.push_back(d->name);
+    bool found = false;
+    visitFields(defaults, [&](const char* name, auto& value, auto... range) {
+      if (d->name != name) return;
+      found = true;
+      boost::any def, lo, hi;
+      d->getValue(cfg_default, def);
+      d->getValue(cfg_min, lo);
+      d->getValue(cfg_max, hi);
+      const auto number = [](const boost::any& a) {
+        if (const int* i = boost::any_cast<int>(&a)) return double(*i);
+        if (const bool* b = boost::any_cast<bool>(&a)) return double(*b);
+        return boost::any_cast<double>(a);
+      };
+      EXPECT_EQ(number(def), double(value)) << d->name << ": .cfg default differs from the library's";
+      if constexpr (sizeof...(range) == 2) {
+        const double bounds[] = {double(range)...};
+        EXPECT_EQ(number(lo), bounds[0]) << d->name << ": .cfg minimum differs from params_fields.hpp";
+        EXPECT_EQ(number(hi), bounds[1]) << d->name << ": .cfg maximum differs from params_fields.hpp";
+      }
+    });
+    EXPECT_TRUE(found) << d->name << " in the .cfg is no field of its section in params_fields.hpp";
+  }
+  return names;
+}
 
-  risas::RisasConfig changed = from_params;
-  changed.n_bin = 16;
-  changed.tau = 0.5;
-  const risas::RisasParams applied = applyConfig(changed, defaults);
-  EXPECT_EQ(applied.descriptor.n_bin, 16);
-  EXPECT_EQ(applied.detector.tau, 0.5);
-  EXPECT_EQ(applied.descriptor.dimension(), 8 * 16 * 3);
-  EXPECT_EQ(applied.geometry.normal_radius, defaults.geometry.normal_radius);  // not reconfigurable: kept
+TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
+  const RisasParams defaults;
+  const auto detector = expectCfgMatchesLibrary<risas::RisasDetectorConfig>(defaults.detector);
+  const auto descriptor = expectCfgMatchesLibrary<risas::RisasDescriptorConfig>(defaults.descriptor);
+  const auto match = expectCfgMatchesLibrary<risas::RisasMatchConfig>(defaults.match);
+  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints"}));
+  EXPECT_EQ(descriptor.size(), 7u);
+  EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
+}
+
+TEST(Reconfigure, ConfigsMapToTheirSectionsBothWays) {
+  RisasParams params;
+  params.detector.tau = 0.25;
+  params.descriptor.n_bin = 16;
+  params.descriptor.n_ring = 2;
+  params.match.cross_check = true;
+  const auto descriptor = toConfig<risas::RisasDescriptorConfig>(params.descriptor);
+  EXPECT_EQ(descriptor.n_bin, 16);
+  EXPECT_EQ(descriptor.n_ring, 2);
+  EXPECT_EQ(toConfig<risas::RisasDetectorConfig>(params.detector).tau, 0.25);
+  EXPECT_TRUE(toConfig<risas::RisasMatchConfig>(params.match).cross_check);
+
+  risas::RisasDescriptorConfig changed = descriptor;
+  changed.n_vec = 3;
+  changed.rho_threshold = 0.5;
+  const risas::DescriptorParams applied = applyConfig(changed, params.descriptor);
+  EXPECT_EQ(applied.n_vec, 3);
+  EXPECT_EQ(applied.rho_threshold, 0.5);
+  EXPECT_EQ(applied.n_bin, 16);
+  EXPECT_EQ(applied.patch_radius, params.descriptor.patch_radius);  // not reconfigurable: kept
 }
 
 TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {

@@ -4,6 +4,7 @@
 //   Odometry  demo.launch: odom against the synthetic truth, reset, bad arrays
 //   BadInput  risas_node alone; this test publishes good and bad frames
 //   Bag       bag.launch playing a bag written by risas_dataset_to_bag
+//   Transports risas_node, started here, asked for a lossy or missing transport
 //   NoDevice  the OpenNI2 camera node, started here, asked for a device that is not there
 #include "risas/ros/conversions.hpp"
 #include "risas/synthetic_scene.hpp"
@@ -29,6 +30,7 @@
 #include <sys/wait.h>
 #include <map>
 #include <mutex>
+#include <optional>
 
 namespace {
 
@@ -70,14 +72,26 @@ class Recorder {
 
 using risas_ros::fromTransform;
 
-bool setIntParameter(const std::string& node, const std::string& name, int value) {
+// Sets one int of a dynamic_reconfigure server; the config the server holds
+// afterwards, or nothing when the call failed.
+std::optional<dynamic_reconfigure::Config> setIntParameter(const std::string& server, const std::string& name,
+                                                           int value) {
   dynamic_reconfigure::Reconfigure srv;
   dynamic_reconfigure::IntParameter p;
   p.name = name;
   p.value = value;
   srv.request.config.ints.push_back(p);
-  return ros::service::waitForService(node + "/set_parameters", ros::Duration(10.0)) &&
-         ros::service::call(node + "/set_parameters", srv);
+  if (!ros::service::waitForService(server + "/set_parameters", ros::Duration(10.0)) ||
+      !ros::service::call(server + "/set_parameters", srv))
+    return std::nullopt;
+  return srv.response.config;
+}
+
+int intIn(const dynamic_reconfigure::Config& config, const std::string& name) {
+  for (const auto& p : config.ints) {
+    if (p.name == name) return p.value;
+  }
+  return -1;
 }
 
 // ---------------------------------------------------------------- Pipeline --
@@ -178,7 +192,12 @@ TEST_F(Pipeline, MotionAgreesWithTheSyntheticGroundTruth) {
 TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
   Recorder<geometry_msgs::TransformStamped> motion(nh, "/risas/motion");
   ASSERT_TRUE(keypoints.waitForCount(1, 60.0));
-  ASSERT_TRUE(setIntParameter("/risas", "n_bin", 16));
+  const auto set = setIntParameter("/risas/descriptor", "n_bin", 16);
+  ASSERT_TRUE(set);
+  EXPECT_EQ(intIn(*set, "n_bin"), 16);
+  // One name per parameter: the launch file's ~descriptor/n_bin, no ~n_bin.
+  EXPECT_EQ(ros::param::param("/risas/descriptor/n_bin", 0), 16);
+  EXPECT_FALSE(ros::param::has("/risas/n_bin"));
   EXPECT_TRUE(keypoints.waitFor(
       [](const auto& m) {
         return std::count_if(m.begin(), m.end(), [](const auto& a) { return a->descriptor_dim == 8 * 16 * 3; }) >= 3;
@@ -197,7 +216,13 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
       [&](const auto& m) { return std::any_of(m.begin(), m.end(), [&](const auto& t) { return t->header.stamp > changed; }); },
       30.0))
       << "no motion after the descriptor size changed";
-  ASSERT_TRUE(setIntParameter("/risas", "n_bin", 8));
+  // A descriptor over 2,048 dimensions is rejected, and the server says so by
+  // keeping its value.
+  const auto rejected = setIntParameter("/risas/descriptor", "n_bin", 256);
+  ASSERT_TRUE(rejected);
+  EXPECT_EQ(intIn(*rejected, "n_bin"), 16);
+  EXPECT_EQ(ros::param::param("/risas/descriptor/n_bin", 0), 16);
+  ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", 8));
 }
 
 // ---------------------------------------------------------------- Odometry --
@@ -421,6 +446,29 @@ TEST(Bag, EveryFrameOfTheBagComesOutAsAKeypointArray) {
     EXPECT_GT(arrays[i]->keypoints.size(), 100u);
     EXPECT_EQ(arrays[i]->header.stamp, ros::Time(1.0e9) + ros::Duration(i / 5.0)) << "frame " << i;
   }
+}
+
+// -------------------------------------------------------------- Transports --
+
+// Runs risas_node with `arguments` until it exits (30 s at most): its exit
+// status and everything it printed.
+std::pair<int, std::string> runRisasNode(const std::string& arguments) {
+  const std::string log = "/tmp/risas_transport_probe_" + std::to_string(::getpid()) + ".log";
+  const std::string command = "timeout 30 " RISAS_BIN_DIR "/risas_node " + arguments + " > " + log + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::remove(log.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+TEST(Transports, LossyDepthOrAnUninstalledTransportStopsTheNodeWithItsName) {
+  const auto [lossy_status, lossy] = runRisasNode("__name:=risas_lossy _depth_image_transport:=compressed");
+  EXPECT_EQ(lossy_status, 1) << "not a clean refusal (124: still running after 30 s)\n" << lossy;
+  EXPECT_NE(lossy.find("depth_image_transport 'compressed' is lossy"), std::string::npos) << lossy;
+  const auto [missing_status, missing] = runRisasNode("__name:=risas_missing _image_transport:=theora");
+  EXPECT_EQ(missing_status, 1) << missing;
+  EXPECT_NE(missing.find("image_transport 'theora' is not installed (installed: raw"), std::string::npos) << missing;
 }
 
 // ---------------------------------------------------------------- NoDevice --

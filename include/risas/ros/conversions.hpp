@@ -17,6 +17,9 @@
 #include <Eigen/Geometry>
 #include <geometry_msgs/Transform.h>
 
+#include <string>
+#include <vector>
+
 namespace risas_ros {
 
 using risas::Features;
@@ -26,8 +29,11 @@ using risas::KeypointArrayPtr;
 using risas::RgbdFrame;
 using risas::RisasParams;
 
-// K of a CameraInfo (the rectified image's intrinsics); InputError when K is
-// all zero (an uncalibrated camera) or not a pinhole matrix.
+// The rectified image's intrinsics: the projection P, read as
+// image_geometry::PinholeCameraModel reads it (it differs from K whenever the
+// camera was calibrated with distortion). K when P is all zero (drivers that
+// fill only K). InputError when both are all zero (an uncalibrated camera) or
+// P's left 3x3 is no pinhole matrix.
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, cv::Size size);
 
@@ -49,6 +55,16 @@ Features fromMessage(const KeypointArray& message);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
 // The inverse: the quaternion normalised.
 Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
+
+// Checks the image_transport `transport` named by the parameter ~`parameter`
+// against image_transport's loadable transports (`loadable`, as
+// ImageTransport::getLoadableTransports() gives them: "image_transport/raw",
+// "compressed_depth_image_transport/compressedDepth", ...). For depth, lossy
+// transports (compressed, theora, ffmpeg, h264, h265) are refused: their
+// codecs change depth values. std::invalid_argument, one line naming the
+// transport and what is installed, otherwise.
+void checkImageTransport(const std::string& transport, const std::string& parameter, bool depth,
+                         const std::vector<std::string>& loadable);
 
 // RisasParams from the parameter server, nested as in config/risas.yaml
 // (~detector/tau, ~descriptor/n_bin, ...); absent values keep their defaults.

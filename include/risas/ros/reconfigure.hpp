@@ -1,36 +1,68 @@
-// The dynamic_reconfigure fields of risas/RisasNodelet (cfg/Risas.cfg) and
-// the RisasParams fields they stand for: one list for both directions.
+// dynamic_reconfigure for risas/RisasNodelet: one server per section of
+// RisasParams, on the section's namespace (~detector, ~descriptor, ~match), so
+// a reconfiguration sets the very names the parameter files set
+// (~detector/tau). A .cfg field stands for the params_fields.hpp field of the
+// same name in its section; there is no second list. Tests hold the .cfg
+// names and ranges equal to params_fields.hpp.
 #pragma once
 
-#include "risas/params.hpp"
+#include "risas/params_fields.hpp"
 
-#include <risas/RisasConfig.h>
+#include <dynamic_reconfigure/config_tools.h>
+
+#include <boost/any.hpp>
+
+#include <string>
 
 namespace risas_ros {
 
-template <class F>
-void forEachReconfigurable(risas::RisasConfig& c, risas::RisasParams& p, F&& f) {
-  f(c.tau, p.detector.tau);
-  f(c.response_threshold, p.detector.response_threshold);
-  f(c.max_keypoints, p.detector.max_keypoints);
-  f(c.gamma, p.descriptor.gamma);
-  f(c.n_pie, p.descriptor.n_pie);
-  f(c.n_bin, p.descriptor.n_bin);
-  f(c.n_vec, p.descriptor.n_vec);
-  f(c.rho_threshold, p.descriptor.rho_threshold);
-  f(c.support_radius, p.descriptor.support_radius);
-  f(c.ratio, p.match.ratio);
+namespace detail {
+
+// Assigns a .cfg value (int, double or bool) to a params field of any number type.
+template <class T>
+void assignFromAny(T& field, const boost::any& value) {
+  if (const int* i = boost::any_cast<int>(&value)) field = static_cast<T>(*i);
+  if (const double* d = boost::any_cast<double>(&value)) field = static_cast<T>(*d);
+  if (const bool* b = boost::any_cast<bool>(&value)) field = static_cast<T>(*b);
 }
 
-inline risas::RisasConfig toConfig(risas::RisasParams params) {
-  risas::RisasConfig config = risas::RisasConfig::__getDefault__();
-  forEachReconfigurable(config, params, [](auto& field, const auto& value) { field = value; });
+// Calls f(field) for the field of `section` named `name`, if there is one.
+template <class Section, class F>
+void withField(Section& section, const std::string& name, F&& f) {
+  risas::visitFields(section, [&](const char* field_name, auto& field, auto...) {
+    if (name == field_name) f(field);
+  });
+}
+
+}  // namespace detail
+
+// The .cfg's Config holding `section`'s values; its fields without a
+// namesake in the section (none, by the tests) keep the .cfg defaults.
+template <class Config, class Section>
+Config toConfig(Section section) {
+  dynamic_reconfigure::Config message;
+  for (const auto& description : Config::__getParamDescriptions__()) {
+    detail::withField(section, description->name, [&](const auto& field) {
+      using dynamic_reconfigure::ConfigTools;
+      if (description->type == "int") ConfigTools::appendParameter(message, description->name, static_cast<int>(field));
+      if (description->type == "double") ConfigTools::appendParameter(message, description->name, static_cast<double>(field));
+      if (description->type == "bool") ConfigTools::appendParameter(message, description->name, static_cast<bool>(field));
+    });
+  }
+  Config config = Config::__getDefault__();
+  config.__fromMessage__(message);
   return config;
 }
 
-inline risas::RisasParams applyConfig(risas::RisasConfig config, risas::RisasParams params) {
-  forEachReconfigurable(config, params, [](const auto& field, auto& value) { value = field; });
-  return params;
+// `section` with the Config's values in the fields it stands for.
+template <class Config, class Section>
+Section applyConfig(const Config& config, Section section) {
+  for (const auto& description : Config::__getParamDescriptions__()) {
+    boost::any value;
+    description->getValue(config, value);
+    detail::withField(section, description->name, [&](auto& field) { detail::assignFromAny(field, value); });
+  }
+  return section;
 }
 
 }  // namespace risas_ros
