@@ -10,7 +10,8 @@ packages=(
   libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view libimage-view-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   python3-sensor-msgs libtf2-ros-dev libopenni2-dev libcamera-info-manager-dev
-  libpcl-dev python3-matplotlib
+  libpcl-dev python3-matplotlib libimage-geometry-dev libtf2-eigen-dev
+  rviz xvfb xdotool imagemagick
   libnav-msgs-dev libstd-srvs-dev python3-nav-msgs
   clang libclang-rt-14-dev
 )

@@ -5,6 +5,7 @@
 
 #include <image_geometry/pinhole_camera_model.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
@@ -152,6 +153,27 @@ KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& hea
   const cv::Mat rows = features.descriptors.isContinuous() ? features.descriptors : features.descriptors.clone();
   message->descriptors.assign(rows.ptr<float>(), rows.ptr<float>() + rows.total());
   return message;
+}
+
+sensor_msgs::PointCloud2Ptr toPointCloud(const Features& features, const std_msgs::Header& header) {
+  auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
+  cloud->header = header;
+  sensor_msgs::PointCloud2Modifier modifier(*cloud);
+  const auto f32 = sensor_msgs::PointField::FLOAT32;
+  modifier.setPointCloud2Fields(7, "x", 1, f32, "y", 1, f32, "z", 1, f32, "response", 1, f32, "normal_x", 1, f32,
+                                "normal_y", 1, f32, "normal_z", 1, f32);
+  modifier.resize(features.geometry.size());
+  cloud->height = 1;
+  cloud->width = static_cast<uint32_t>(features.geometry.size());
+  cloud->is_dense = true;
+  sensor_msgs::PointCloud2Iterator<float> out(*cloud, "x");
+  for (size_t i = 0; i < features.geometry.size(); ++i, ++out) {
+    const risas::KeypointGeometry& g = features.geometry[i];
+    const float values[] = {g.point.x, g.point.y, g.point.z, features.keypoints[i].response,
+                            g.normal[0], g.normal[1], g.normal[2]};
+    std::copy(std::begin(values), std::end(values), &out[0]);
+  }
+  return cloud;
 }
 
 Features fromMessage(const KeypointArray& message) {

@@ -4,6 +4,8 @@
 //   ~keypoints  risas/KeypointArray (features, 3D points, descriptors)
 //   ~image      bgr8 overlay: previous frame left, current right, RANSAC
 //               inliers green, outliers red
+//   ~points     sensor_msgs/PointCloud2 of the keypoints' 3D points (x, y, z,
+//               response, normal_x/y/z), for rviz
 //   ~motion     geometry_msgs/TransformStamped: the current camera frame in
 //               the previous one (p_previous = T p_current), child_frame_id
 //               the camera frame, frame_id the camera frame + "_previous"
@@ -116,6 +118,7 @@ class RisasNodelet : public nodelet::Nodelet {
       const auto connect = [this](const auto&) { connectCb(); };
       pub_keypoints_ = pnh.advertise<KeypointArray>("keypoints", 5, connect, connect);
       pub_motion_ = pnh.advertise<geometry_msgs::TransformStamped>("motion", 5, connect, connect);
+      pub_points_ = pnh.advertise<sensor_msgs::PointCloud2>("points", 5, connect, connect);
       image_transport::ImageTransport private_it(pnh);
       pub_image_ = private_it.advertise("image", 1, connect, connect);
     }
@@ -132,7 +135,8 @@ class RisasNodelet : public nodelet::Nodelet {
   void connectCb() {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     const bool wanted = always_subscribe_ || pub_keypoints_.getNumSubscribers() > 0 ||
-                        pub_motion_.getNumSubscribers() > 0 || pub_image_.getNumSubscribers() > 0;
+                        pub_motion_.getNumSubscribers() > 0 || pub_image_.getNumSubscribers() > 0 ||
+                        pub_points_.getNumSubscribers() > 0;
     if (wanted == subscribed_) return;
     if (wanted) {
       sub_rgb_.subscribe(*rgb_it_, "rgb/image_rect_color", queue_size_, *rgb_hints_);
@@ -214,6 +218,7 @@ class RisasNodelet : public nodelet::Nodelet {
     }
     Features features = setup->risas.extract(*frame);
     pub_keypoints_.publish(toMessage(features, rgb->header, *info));
+    if (pub_points_.getNumSubscribers() > 0) pub_points_.publish(toPointCloud(features, rgb->header));
 
     std::lock_guard<std::mutex> lock(frame_mutex_);
     std::vector<cv::DMatch> matches;
@@ -262,7 +267,7 @@ class RisasNodelet : public nodelet::Nodelet {
   ros::WallTime last_frame_;
   ros::WallTimer watchdog_;
 
-  ros::Publisher pub_keypoints_, pub_motion_;
+  ros::Publisher pub_keypoints_, pub_motion_, pub_points_;
   image_transport::Publisher pub_image_;
 
   mutable std::mutex setup_mutex_;

@@ -4,10 +4,12 @@
 //   rgb/image_rect_color        bgr8
 //   depth_registered/image_raw  16UC1 millimetres, registered to rgb
 //   rgb/camera_info
-// plus its true pose as tf ~world_frame -> ~frame_id. It renders only while
-// someone subscribes. Parameters: ~rate (Hz, 30), ~frame_id
-// (camera_rgb_optical_frame), ~world_frame (world), ~arc_deg (swing
-// amplitude, 25), ~period (seconds per swing, 12).
+// plus its true pose as tf ~world_frame -> ~truth_frame_id: a frame of its
+// own, as simulators publish ground truth, so that an odometry can parent the
+// camera frame itself. It renders only while someone subscribes. Parameters:
+// ~rate (Hz, 30), ~frame_id (camera_rgb_optical_frame), ~world_frame (world),
+// ~truth_frame_id (~frame_id + "_truth"), ~arc_deg (swing amplitude, 25),
+// ~period (seconds per swing, 12).
 #include "risas/ros/conversions.hpp"
 #include "risas/synthetic_scene.hpp"
 
@@ -34,6 +36,7 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
     const double rate = pnh.param("rate", 30.0);
     frame_id_ = pnh.param<std::string>("frame_id", "camera_rgb_optical_frame");
     world_frame_ = pnh.param<std::string>("world_frame", "world");
+    truth_frame_ = pnh.param<std::string>("truth_frame_id", frame_id_ + "_truth");
     arc_ = pnh.param("arc_deg", 25.0) * M_PI / 180.0;
     period_ = pnh.param("period", 12.0);
     if (!(rate > 0.0) || !(period_ > 0.0)) {
@@ -66,7 +69,7 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
     geometry_msgs::TransformStamped pose;
     pose.header.stamp = stamp;
     pose.header.frame_id = world_frame_;
-    pose.child_frame_id = frame_id_;
+    pose.child_frame_id = truth_frame_;
     pose.transform = toTransform(world_T_camera);
     tf_.sendTransform(pose);  // first, so the pose is known when the images arrive
     auto info = boost::make_shared<sensor_msgs::CameraInfo>(info_);
@@ -78,7 +81,7 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
 
   const SyntheticScene scene_ = SyntheticScene::demo();
   const cv::Size size_{640, 480};
-  std::string frame_id_, world_frame_;
+  std::string frame_id_, world_frame_, truth_frame_;
   double arc_ = 0.0, period_ = 1.0;
   sensor_msgs::CameraInfo info_;
   image_transport::Publisher pub_rgb_, pub_depth_;

@@ -13,6 +13,7 @@
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <gtest/gtest.h>
 
@@ -199,6 +200,29 @@ TEST(Transports, LossyDepthAndUninstalledTransportsAreRefusedByName) {
             "depth_image_transport 'compressedDepth' is not installed (installed: raw)");
   EXPECT_EQ(message("jpeg", false, wifi),
             "image_transport 'jpeg' is not installed (installed: raw, compressed, compressedDepth)");
+}
+
+TEST(Conversions, PointCloudHoldsEachKeypointsPointResponseAndNormalInPclsFieldNames) {
+  const Messages m = render();
+  const risas::Features f = risas::Risas().extract(frameFromMessages(m.rgb, m.depth, m.info));
+  ASSERT_GT(f.keypoints.size(), 100u);
+  const sensor_msgs::PointCloud2Ptr cloud = toPointCloud(f, m.rgb.header);
+  EXPECT_EQ(cloud->header.frame_id, "camera_rgb_optical_frame");
+  EXPECT_EQ(cloud->header.stamp, m.rgb.header.stamp);
+  ASSERT_EQ(cloud->width * cloud->height, f.keypoints.size());
+  EXPECT_EQ(cloud->data.size(), size_t(cloud->row_step) * cloud->height);
+  std::vector<std::string> names;
+  for (const auto& field : cloud->fields) names.push_back(field.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"x", "y", "z", "response", "normal_x", "normal_y", "normal_z"}));
+  sensor_msgs::PointCloud2ConstIterator<float> x(*cloud, "x"), response(*cloud, "response"), nz(*cloud, "normal_z");
+  for (size_t i = 0; i < f.keypoints.size(); ++i, ++x, ++response, ++nz) {
+    EXPECT_EQ(x[0], f.geometry[i].point.x);
+    EXPECT_EQ(x[1], f.geometry[i].point.y);
+    EXPECT_EQ(x[2], f.geometry[i].point.z);
+    EXPECT_EQ(*response, f.keypoints[i].response);
+    EXPECT_EQ(*nz, f.geometry[i].normal[2]);
+  }
+  EXPECT_EQ(toPointCloud(risas::Features(), m.rgb.header)->width, 0u);
 }
 
 TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {

@@ -17,6 +17,7 @@
 #include <nav_msgs/Odometry.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -141,6 +142,29 @@ TEST_F(Pipeline, OverlayShowsPreviousAndCurrentFrameSideBySide) {
   }
 }
 
+TEST_F(Pipeline, PointCloudIsTheKeypointArraysPointsForRviz) {
+  Recorder<sensor_msgs::PointCloud2> points(nh, "/risas/points");
+  ASSERT_TRUE(points.waitForCount(3, 60.0)) << "no PointCloud2 on /risas/points";
+  const auto arrays = keypoints.messages();
+  int compared = 0;
+  for (const auto& cloud : points.messages()) {
+    EXPECT_EQ(cloud->header.frame_id, "camera_rgb_optical_frame");
+    const auto array = std::find_if(arrays.begin(), arrays.end(),
+                                    [&](const auto& a) { return a->header.stamp == cloud->header.stamp; });
+    if (array == arrays.end()) continue;
+    ++compared;
+    ASSERT_EQ(cloud->width, (*array)->keypoints.size());
+    sensor_msgs::PointCloud2ConstIterator<float> x(*cloud, "x"), normal(*cloud, "normal_x");
+    for (const risas::Keypoint& k : (*array)->keypoints) {
+      EXPECT_EQ(x[2], k.point.z);
+      EXPECT_EQ(normal[0], k.normal[0]);
+      ++x;
+      ++normal;
+    }
+  }
+  EXPECT_GT(compared, 0) << "no cloud stamp matched a KeypointArray stamp";
+}
+
 TEST_F(Pipeline, MotionAgreesWithTheSyntheticGroundTruth) {
   tf2_ros::Buffer buffer(ros::Duration(60.0));
   tf2_ros::TransformListener listener(buffer);
@@ -164,8 +188,8 @@ TEST_F(Pipeline, MotionAgreesWithTheSyntheticGroundTruth) {
     const ros::Time previous_stamp = (*(current - 1))->header.stamp;
     geometry_msgs::TransformStamped world_T_previous, world_T_current;
     try {
-      world_T_previous = buffer.lookupTransform("world", m->child_frame_id, previous_stamp, ros::Duration(2.0));
-      world_T_current = buffer.lookupTransform("world", m->child_frame_id, m->header.stamp, ros::Duration(2.0));
+      world_T_previous = buffer.lookupTransform("world", m->child_frame_id + "_truth", previous_stamp, ros::Duration(2.0));
+      world_T_current = buffer.lookupTransform("world", m->child_frame_id + "_truth", m->header.stamp, ros::Duration(2.0));
     } catch (const tf2::TransformException&) {
       continue;  // this test subscribed to tf after these frames
     }
@@ -261,7 +285,7 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   EXPECT_EQ(run.front()->header.frame_id, "odom");
   EXPECT_EQ(run.front()->child_frame_id, "camera_rgb_optical_frame");
   const Eigen::Isometry3d world_T_start =
-      fromTransform(buffer.lookupTransform("world", "camera_rgb_optical_frame", run.front()->header.stamp, ros::Duration(2.0)).transform);
+      fromTransform(buffer.lookupTransform("world", "camera_rgb_optical_frame_truth", run.front()->header.stamp, ros::Duration(2.0)).transform);
   double worst_translation = 0.0, worst_rotation = 0.0;
   int lost = 0;
   for (const auto& o : run) {
@@ -271,12 +295,17 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
     }
     const Eigen::Isometry3d truth =
         world_T_start.inverse() *
-        fromTransform(buffer.lookupTransform("world", o->child_frame_id, o->header.stamp, ros::Duration(2.0)).transform);
+        fromTransform(buffer.lookupTransform("world", o->child_frame_id + "_truth", o->header.stamp, ros::Duration(2.0)).transform);
     const Eigen::Isometry3d error = truth.inverse() * pose(*o);
     worst_translation = std::max(worst_translation, error.translation().norm());
     worst_rotation = std::max(worst_rotation, Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);
   }
   EXPECT_EQ(lost, 0);
+  // The demo's odometry parents the camera frame on tf, as with a real camera.
+  const nav_msgs::Odometry& last = *run.back();
+  const Eigen::Isometry3d on_tf = fromTransform(
+      buffer.lookupTransform("odom", "camera_rgb_optical_frame", last.header.stamp, ros::Duration(2.0)).transform);
+  EXPECT_TRUE(on_tf.isApprox(pose(last), 1e-6)) << "tf odom -> camera differs from /odom";
   // After a full swing (25 deg and back, ~0.6 m of camera travel): within
   // 2 cm and 1 deg of the truth throughout.
   EXPECT_LT(worst_translation, 0.02);

@@ -13,6 +13,7 @@
 #include <ros/node_handle.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <Eigen/Geometry>
 #include <geometry_msgs/Transform.h>
@@ -48,6 +49,12 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
 
 KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& header,
                            const sensor_msgs::CameraInfo& info);
+// The keypoints' 3D points for rviz and PCL: an unordered cloud (height 1)
+// with float32 fields x, y, z (metres, camera optical frame), response, and
+// normal_x, normal_y, normal_z (unit, facing the camera), in PCL's names
+// (pcl::PointXYZ... + pcl::Normal). Keypoints without geometry are left out.
+sensor_msgs::PointCloud2Ptr toPointCloud(const Features& features, const std_msgs::Header& header);
+
 // The inverse; descriptors are copied out of the message. InputError when the
 // descriptor array does not hold keypoints.size() x descriptor_dim values.
 Features fromMessage(const KeypointArray& message);
