@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
 # Runs every test of risas on a fresh Debian 12: installs what is missing,
-# then three stages, and exits non-zero when any test fails:
-#   1. the catkin package (Release, gcc): unit tests and rostests;
-#   2. the ROS-free core with ASan+UBSan (gcc; any report is fatal): its unit
-#      tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
-#   3. the ROS-free core with clang (Release): its unit tests.
+# then four stages, and exits non-zero when any test fails:
+#   1. ros: the catkin package (Release, gcc): unit tests and rostests (the
+#      display test among them, under an Xvfb of its own);
+#   2. sanitize: the ROS-free core with ASan+UBSan (gcc; any report is
+#      fatal): its unit tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
+#   3. clang: the ROS-free core with clang (Release): its unit tests;
+#   4. downstream: the package built with -DCATKIN_ENABLE_TESTING=OFF and
+#      installed, the clang build installed with `cmake --install`, and a
+#      user's catkin package and plain-CMake project built against each
+#      install and run (test/downstream).
 # Ends with one line over all of them: "N passed, N failed, N skipped".
-# RISAS_TEST_STAGES (default "ros sanitize clang") picks stages.
+# RISAS_TEST_STAGES (default "ros sanitize clang downstream") picks stages.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
 source "$(dirname "$0")/env.sh"
 
-stages="${RISAS_TEST_STAGES:-ros sanitize clang}"
+stages="${RISAS_TEST_STAGES:-ros sanitize clang downstream}"
 plain_root="${RISAS_PLAIN_BUILDS:-$(dirname "$RISAS_WS")/risas_plain}"
 results=()
 
@@ -29,18 +34,24 @@ if [[ " $stages " == *" ros "* ]]; then
   echo "== stage ros took ${SECONDS} s"
 fi
 
-# plain_stage NAME CXX FLAGS...: configures and builds the ROS-free core, its
-# tools and tests in $plain_root/NAME, runs ctest into NAME/junit.xml.
-plain_stage() {
+# plain_build NAME CXX FLAGS...: configures and builds the ROS-free core, its
+# tools and tests in $plain_root/NAME.
+plain_build() {
   local name=$1 cxx=$2 flags=$3
   shift 3
   local dir="$plain_root/$name"
-  echo "== stage $name: ROS-free core with $cxx $flags"
-  SECONDS=0
   cmake -S "$RISAS_ROOT" -B "$dir" -DRISAS_WITH_ROS=OFF -DCMAKE_CXX_COMPILER="$cxx" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" "$@" > "$dir.configure.log" 2>&1 ||
     { tail -30 "$dir.configure.log"; exit 1; }
   cmake --build "$dir" -j"$(nproc)" > "$dir.build.log" 2>&1 || { grep -E "error|Error" "$dir.build.log" | head -30; exit 1; }
+}
+
+# plain_stage NAME CXX FLAGS...: plain_build, then ctest into NAME/junit.xml.
+plain_stage() {
+  local name=$1 dir="$plain_root/$1"
+  echo "== stage $name: ROS-free core with $2 $3"
+  SECONDS=0
+  plain_build "$@"
   (cd "$dir" && ctest -j"$(nproc)" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
     grep -E "Failed|\*\*\*|ERROR|runtime error|invariant" "$dir/ctest.log" | head -40 || true
   tail -3 "$dir/ctest.log"
@@ -61,6 +72,30 @@ fi
 
 if [[ " $stages " == *" clang "* ]]; then
   plain_stage clang clang++ "" -DCMAKE_BUILD_TYPE=Release
+fi
+
+if [[ " $stages " == *" downstream "* ]]; then
+  echo "== stage downstream: installed package, a user's catkin package and CMake project against it"
+  SECONDS=0
+  # The catkin package without tests (it must build so), installed.
+  notest_ws="$plain_root/catkin_notest_ws"
+  mkdir -p "$notest_ws/src"
+  ln -sfn "$RISAS_ROOT" "$notest_ws/src/risas"
+  catkin_make -C "$notest_ws" "${RISAS_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=OFF -j"$(nproc)" install \
+    > "$notest_ws.log" 2>&1 || { grep -E "error|Error" "$notest_ws.log" | head -30; exit 1; }
+  # The plain build (the clang stage's; built here when that stage did not run), installed.
+  plain_build clang clang++ "" -DCMAKE_BUILD_TYPE=Release
+  rm -rf "$plain_root/prefix"
+  cmake --install "$plain_root/clang" --prefix "$plain_root/prefix" > "$plain_root/install.log" 2>&1 ||
+    { tail -20 "$plain_root/install.log"; exit 1; }
+  dir="$plain_root/downstream"
+  cmake -S "$RISAS_ROOT/test/downstream" -B "$dir" -DRISAS_PREFIX="$plain_root/prefix" \
+        -DRISAS_CATKIN_INSTALL="$notest_ws/install" > "$dir.configure.log" 2>&1 || { tail -20 "$dir.configure.log"; exit 1; }
+  (cd "$dir" && ctest --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
+    grep -vE "^\s*$" "$dir/ctest.log" | tail -40 || true
+  tail -3 "$dir/ctest.log"
+  results+=("$dir/junit.xml")
+  echo "== stage downstream took ${SECONDS} s"
 fi
 
 python3 "$RISAS_ROOT/scripts/summarise_test_results.py" "${results[@]}"

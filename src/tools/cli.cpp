@@ -133,4 +133,17 @@ int runTool(const char* tool, const std::function<int()>& body) {
   }
 }
 
+std::string scriptPath(const std::string& name) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  std::vector<fs::path> candidates;
+  if (!error) candidates.push_back(self.parent_path() / RISAS_SCRIPTS_FROM_BIN / name);
+  candidates.push_back(fs::path(RISAS_SOURCE_SCRIPTS) / name);
+  for (const fs::path& candidate : candidates) {
+    if (fs::is_regular_file(candidate, error)) return fs::weakly_canonical(candidate, error).string();
+  }
+  return "";
+}
+
 }  // namespace risas::cli

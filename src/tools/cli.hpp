@@ -53,6 +53,11 @@ Option paramsOption();
 // it before the work, not after.
 void requireWritable(const std::string& path);
 
+// The path of scripts/<name> for this tool: installed beside it (the
+// package's share/risas/scripts, found from the executable's own path), else
+// in the source tree it was built from; empty when neither has it.
+std::string scriptPath(const std::string& name);
+
 // Runs the body; prints errors as "<tool>: error: ..." and returns the exit
 // code: 0 ok, 1 failure (bad input, unreadable files), 2 wrong usage.
 int runTool(const char* tool, const std::function<int()>& body);

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     for (const std::string& m : risas::eval::methodNames()) all_methods += (all_methods.empty() ? "" : ",") + m;
     std::string all_sequences;
     for (const std::string& s : risas::eval::evaluatedSequences()) all_sequences += (all_sequences.empty() ? "" : ",") + s;
+    const std::string plot_script = risas::cli::scriptPath("plot_evaluation.py");
     std::vector<risas::cli::Option> options = {
         {"data", "DIR", "dataset root: <scene>/<sequence>/rgb_k.png ..., camera-intrinsics.txt"},
         {"tum", "DIR", "instead of --data: a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt)"},
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
         {"sequences", "LIST", "sequences (default: " + all_sequences + ")"},
         {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
         {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec) or tau"},
-        {"no-plots", "", "do not run scripts/plot_evaluation.py"},
+        {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
@@ -150,8 +151,10 @@ int main(int argc, char** argv) {
     std::ifstream summary(std::filesystem::path(out) / "summary.md");
     std::cout << summary.rdbuf();
 
-    if (!args.has("no-plots")) {
-      const std::string command = std::string(RISAS_PLOT_SCRIPT) + " " + out;
+    if (!args.has("no-plots") && plot_script.empty()) {
+      std::cerr << "risas_evaluate: no plots: plot_evaluation.py is neither installed nor in the source tree\n";
+    } else if (!args.has("no-plots")) {
+      const std::string command = plot_script + " " + out;
       if (std::system(command.c_str()) != 0) {
         std::cerr << "risas_evaluate: plotting failed (needs python3-matplotlib); run: " << command << "\n";
       }
