@@ -1,11 +1,13 @@
 // risas/OpenNI2CameraNodelet: a Kinect/Xtion (or an .oni recording) through
-// libopenni2, for Debian, which has no openni2_camera. Publishes like
-// openni2_camera does:
-//   rgb/image_rect_color        rgb8
-//   depth_registered/image_raw  16UC1 millimetres, registered to rgb
-//                               (depth/image_raw when the device cannot register)
+// libopenni2, for Debian, which has no openni2_camera. Publishes the
+// device's unrectified images, as openni2_camera does (openni2.launch
+// rectifies them with image_proc):
+//   rgb/image_raw               rgb8
 //   rgb/camera_info             from ~camera_info_url if it holds a calibration,
 //                               else from the device's fields of view
+//   depth_registered/image_raw  16UC1 millimetres, registered to rgb
+//   depth_registered/camera_info  the colour camera's, which registered depth has
+//                               (depth/image_raw alone when the device cannot register)
 // Streams run only while someone subscribes (~always_on to override).
 // Parameters: ~device_id ("" first device, "#N", URI part, or file.oni),
 // ~width, ~height, ~fps (640, 480, 30), ~depth_registration (true),
@@ -69,9 +71,12 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
       std::lock_guard<std::mutex> lock(mutex_);
       image_transport::ImageTransport it(nh);
       const auto connect = [this](const auto&) { connectCb(); };
-      pub_color_ = it.advertise("rgb/image_rect_color", 5, connect, connect);
+      pub_color_ = it.advertise("rgb/image_raw", 5, connect, connect);
       pub_depth_ = it.advertise(driver_->depthTopic(), 5, connect, connect);
       pub_info_ = nh.advertise<sensor_msgs::CameraInfo>("rgb/camera_info", 5, connect, connect);
+      if (driver_->registered()) {
+        pub_depth_info_ = nh.advertise<sensor_msgs::CameraInfo>("depth_registered/camera_info", 5, connect, connect);
+      }
     }
     connectCb();
     thread_ = std::thread([this] { publishLoop(); });
@@ -94,7 +99,7 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
 
   bool wanted() const {
     return always_on_ || pub_color_.getNumSubscribers() > 0 || pub_depth_.getNumSubscribers() > 0 ||
-           pub_info_.getNumSubscribers() > 0;
+           pub_info_.getNumSubscribers() > 0 || pub_depth_info_.getNumSubscribers() > 0;
   }
 
   void connectCb() {
@@ -138,6 +143,11 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
       pub_color_.publish(messages->color);
       pub_depth_.publish(messages->depth);
       pub_info_.publish(info);
+      if (pub_depth_info_) {
+        auto depth_info = boost::make_shared<sensor_msgs::CameraInfo>(*info);
+        depth_info->header = messages->depth->header;
+        pub_depth_info_.publish(depth_info);
+      }
     }
   }
 
@@ -172,7 +182,7 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
   std::mutex mutex_;  // guards driver_ between the publishing thread and connect callbacks
   std::unique_ptr<RgbdCameraDriver> driver_;
   image_transport::Publisher pub_color_, pub_depth_;
-  ros::Publisher pub_info_;
+  ros::Publisher pub_info_, pub_depth_info_;  // depth_info_ only when registered
   std::atomic<bool> running_{true};
   std::thread thread_;
 };
