@@ -11,7 +11,7 @@ packages=(
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   python3-sensor-msgs libtf2-ros-dev libopenni2-dev libcamera-info-manager-dev
   libpcl-dev python3-matplotlib libimage-geometry-dev libtf2-eigen-dev
-  rviz xvfb xdotool imagemagick
+  ros-image-proc libimage-proc-dev rviz xvfb xdotool imagemagick libgl1-mesa-dri fonts-dejavu-core
   libnav-msgs-dev libstd-srvs-dev python3-nav-msgs
   clang libclang-rt-14-dev
 )
