@@ -411,6 +411,7 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   EXPECT_TRUE(logged("differs from colour frame_id"));
   f = goodFrame(6.0);
   f.info.K.fill(0.0);
+  f.info.P.fill(0.0);
   send(f);
   EXPECT_TRUE(logged("not calibrated"));
   f = goodFrame(7.0);
@@ -421,7 +422,7 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   // Issue 20: absurd intrinsics and depth are refused, not turned into
   // empty arrays.
   f = goodFrame(7.1);
-  f.info.K[0] = f.info.K[4] = 1e9;
+  f.info.P[0] = f.info.P[5] = 1e9;  // the projection of the rectified image
   send(f);
   EXPECT_TRUE(logged("focal lengths"));
   f = goodFrame(7.2);
