@@ -1,13 +1,18 @@
 // The features of one frame, as the tools and files carry them.
 #pragma once
 
-#include "risas/descriptor.hpp"
-
 #include <opencv2/core.hpp>
 
 #include <vector>
 
 namespace risas {
+
+// What RISAS knows of a described keypoint in 3D.
+struct KeypointGeometry {
+  cv::Point3f point;     // metres, camera optical frame
+  cv::Vec3f normal;      // unit, facing the camera
+  float support_radius;  // radius of the described patch on the surface, metres
+};
 
 struct Features {
   std::vector<cv::KeyPoint> keypoints;

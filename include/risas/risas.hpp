@@ -15,21 +15,22 @@
 // and cv::FileStorage work unchanged.
 #pragma once
 
-#include "risas/descriptor.hpp"
-#include "risas/detector.hpp"
 #include "risas/features.hpp"
-#include "risas/geometry.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
 
 #include <opencv2/core.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace risas {
 
+// As cv::ORB over its hidden ORB_Impl: the stages (geometry, detector,
+// descriptor) are the library's inside, not its interface.
 class Risas {
  public:
+  // std::invalid_argument when params are out of range (RisasParams::validate).
   explicit Risas(const RisasParams& params = RisasParams());
   static cv::Ptr<Risas> create(const RisasParams& params = RisasParams());
 
@@ -40,24 +41,18 @@ class Risas {
   // The same, gathered into one Features value.
   Features extract(const RgbdFrame& frame, const cv::Mat& mask = cv::Mat()) const;
   void detect(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask = cv::Mat()) const;
+  // Like cv::Feature2D::compute: keypoints that cannot be described are removed.
   void compute(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
                std::vector<KeypointGeometry>* info = nullptr) const;
 
-  FrameGeometry computeGeometry(const RgbdFrame& frame) const;
-  // Into geometry, reusing its buffers (see geometry.hpp).
-  void computeGeometry(const RgbdFrame& frame, FrameGeometry& geometry) const;
-  const Detector& detector() const { return detector_; }
-  const Descriptor& descriptor() const { return descriptor_; }
-  const RisasParams& params() const { return params_; }
-
-  int descriptorSize() const { return descriptor_.descriptorSize(); }
-  int descriptorType() const { return descriptor_.descriptorType(); }
-  int defaultNorm() const { return descriptor_.defaultNorm(); }
+  const RisasParams& params() const;
+  int descriptorSize() const;  // params().descriptor.dimension()
+  int descriptorType() const;  // CV_32F
+  int defaultNorm() const;     // cv::NORM_L2
 
  private:
-  RisasParams params_;
-  Detector detector_;
-  Descriptor descriptor_;
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;  // immutable: copies share it
 };
 
 }  // namespace risas

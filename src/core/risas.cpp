@@ -1,11 +1,19 @@
 #include "risas/risas.hpp"
 
+#include "risas/descriptor.hpp"
+#include "risas/detector.hpp"
+#include "risas/geometry.hpp"
+
 namespace risas {
 
-Risas::Risas(const RisasParams& params)
-    : params_(params), detector_(params.detector), descriptor_(params.descriptor) {
-  params_.validate();
-}
+struct Risas::Impl {
+  RisasParams params;
+  Detector detector;
+  Descriptor descriptor;
+  explicit Impl(const RisasParams& p) : params(p), detector(p.detector), descriptor(p.descriptor) { params.validate(); }
+};
+
+Risas::Risas(const RisasParams& params) : impl_(std::make_shared<const Impl>(params)) {}
 
 cv::Ptr<Risas> Risas::create(const RisasParams& params) { return cv::makePtr<Risas>(params); }
 
@@ -28,19 +36,11 @@ void withGeometry(const RgbdFrame& frame, const GeometryParams& params, Use&& us
 
 }  // namespace
 
-FrameGeometry Risas::computeGeometry(const RgbdFrame& frame) const {
-  return risas::computeGeometry(frame, params_.geometry);
-}
-
-void Risas::computeGeometry(const RgbdFrame& frame, FrameGeometry& geometry) const {
-  risas::computeGeometry(frame, params_.geometry, geometry);
-}
-
 void Risas::detectAndCompute(const RgbdFrame& frame, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
                              cv::Mat& descriptors, std::vector<KeypointGeometry>* info) const {
-  withGeometry(frame, params_.geometry, [&](const FrameGeometry& geometry) {
-    detector_.detect(frame, geometry, keypoints, mask);
-    descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  withGeometry(frame, impl_->params.geometry, [&](const FrameGeometry& geometry) {
+    impl_->detector.detect(frame, geometry, keypoints, mask);
+    impl_->descriptor.compute(frame, geometry, keypoints, descriptors, info);
   });
 }
 
@@ -51,15 +51,20 @@ Features Risas::extract(const RgbdFrame& frame, const cv::Mat& mask) const {
 }
 
 void Risas::detect(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask) const {
-  withGeometry(frame, params_.geometry,
-               [&](const FrameGeometry& geometry) { detector_.detect(frame, geometry, keypoints, mask); });
+  withGeometry(frame, impl_->params.geometry,
+               [&](const FrameGeometry& geometry) { impl_->detector.detect(frame, geometry, keypoints, mask); });
 }
 
 void Risas::compute(const RgbdFrame& frame, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
                     std::vector<KeypointGeometry>* info) const {
-  withGeometry(frame, params_.geometry, [&](const FrameGeometry& geometry) {
-    descriptor_.compute(frame, geometry, keypoints, descriptors, info);
+  withGeometry(frame, impl_->params.geometry, [&](const FrameGeometry& geometry) {
+    impl_->descriptor.compute(frame, geometry, keypoints, descriptors, info);
   });
 }
+
+const RisasParams& Risas::params() const { return impl_->params; }
+int Risas::descriptorSize() const { return impl_->descriptor.descriptorSize(); }
+int Risas::descriptorType() const { return impl_->descriptor.descriptorType(); }
+int Risas::defaultNorm() const { return impl_->descriptor.defaultNorm(); }
 
 }  // namespace risas

@@ -2,7 +2,10 @@
 // features) and SIFT on the same frames in the same run.
 #include "cli.hpp"
 
+#include "risas/descriptor.hpp"
+#include "risas/detector.hpp"
 #include "risas/errors.hpp"
+#include "risas/geometry.hpp"
 #include "risas/io.hpp"
 #include "risas/risas.hpp"
 #include "risas/synthetic_scene.hpp"
@@ -71,7 +74,11 @@ int main(int argc, char** argv) {
     cv::setNumThreads(threads == 0 ? -1 : threads);
     const std::vector<risas::RgbdFrame> frames =
         args.has("data") ? loadSequence(args.get("data"), count) : syntheticSequence(count);
-    const auto risas = risas::Risas::create(risas::cli::paramsFrom(args));
+    const risas::RisasParams params = risas::cli::paramsFrom(args);
+    const auto risas = risas::Risas::create(params);
+    // The stages one by one, as Risas runs them (its inside, from the library's internal headers).
+    const risas::Detector detector(params.detector);
+    const risas::Descriptor descriptor(params.descriptor);
     const auto orb = cv::ORB::create(1000);
     const auto sift = cv::SIFT::create();
 
@@ -81,11 +88,11 @@ int main(int argc, char** argv) {
       risas::FrameGeometry geometry;
       std::vector<cv::KeyPoint> keypoints, described;
       cv::Mat descriptors;
-      geometry_ms += timeMs(repeats, [&] { risas->computeGeometry(frame, geometry); });
-      detector_ms += timeMs(repeats, [&] { risas->detector().detect(frame, geometry, keypoints); });
+      geometry_ms += timeMs(repeats, [&] { risas::computeGeometry(frame, params.geometry, geometry); });
+      detector_ms += timeMs(repeats, [&] { detector.detect(frame, geometry, keypoints); });
       descriptor_ms += timeMs(repeats, [&] {
         described = keypoints;
-        risas->descriptor().compute(frame, geometry, described, descriptors);
+        descriptor.compute(frame, geometry, described, descriptors);
       });
       total_ms += timeMs(repeats, [&] { risas->detectAndCompute(frame, cv::Mat(), keypoints, descriptors); });
       risas_kp += static_cast<double>(keypoints.size());

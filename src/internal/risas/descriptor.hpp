@@ -2,6 +2,7 @@
 #pragma once
 
 #include "risas/encoding.hpp"
+#include "risas/features.hpp"
 #include "risas/geometry.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
@@ -11,13 +12,6 @@
 #include <vector>
 
 namespace risas {
-
-// What RISAS knows of a described keypoint in 3D.
-struct KeypointGeometry {
-  cv::Point3f point;     // metres, camera optical frame
-  cv::Vec3f normal;      // unit, facing the camera
-  float support_radius;  // radius of the described patch on the surface, metres
-};
 
 class Descriptor {
  public:
