@@ -301,7 +301,10 @@ TEST(Detector, SameResponseAndKeypointsOnAnyNumberOfThreads) {
 // derivatives (scaled 1/8, replicated border), the tensor tau M_I +
 // (1 - tau) M_P, cv::GaussianBlur with the window (kernel cut at 3 sigma),
 // Harris.
-cv::Mat referenceResponse(const RgbdFrame& frame, const FrameGeometry& g, const DetectorParams& params) {
+// Eq. 1 written with OpenCV's own filters, as a reader of the paper would,
+// independently of the library: the readable autocorrelationResponse must
+// be it, and the kernel must equal both.
+cv::Mat opencvResponse(const RgbdFrame& frame, const FrameGeometry& g, const DetectorParams& params) {
   const auto kernel = [](double sigma) { return cv::Size(2 * cvCeil(3 * sigma) + 1, 2 * cvCeil(3 * sigma) + 1); };
   cv::Mat I, P, Ix, Iy, Px, Py;
   frame.gray().convertTo(I, CV_32F);
@@ -319,10 +322,19 @@ cv::Mat referenceResponse(const RgbdFrame& frame, const FrameGeometry& g, const 
   return xx.mul(yy) - xy.mul(xy) - static_cast<float>(params.harris_k) * trace.mul(trace);
 }
 
-TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
+// The detector's response with cv::setUseOptimized(optimized), restored after.
+cv::Mat responseOnPath(const Detector& detector, const RgbdFrame& frame, const FrameGeometry& g, bool optimized) {
+  const bool before = cv::useOptimized();
+  cv::setUseOptimized(optimized);
+  cv::Mat R = detector.response(frame, g);
+  cv::setUseOptimized(before);
+  return R;
+}
+
+TEST(Detector, ResponseIsEquationOneOnEveryPath) {
   // The default window and grey blur (their own compiled paths) and two
   // others, one without the grey blur, on a frame whose width is no multiple
-  // of four.
+  // of four; the kernel (cv::useOptimized) and the readable path.
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   const cv::Rect crop(163, 125, 301, 203);
   const Intrinsics& K = frame.intrinsics();
@@ -334,12 +346,33 @@ TEST(Detector, ResponseIsEquationOneWithOpenCVsFilters) {
     params.window_sigma = window_sigma;
     if (window_sigma == 0.5) params.gray_sigma = 0.0;
     if (window_sigma == 2.0) params.gray_sigma = 2.0;
-    const cv::Mat expected = referenceResponse(small, g, params);
+    const cv::Mat expected = opencvResponse(small, g, params);
     double largest = 0.0;
     cv::minMaxLoc(cv::abs(expected), nullptr, &largest);
-    EXPECT_LT(cv::norm(Detector(params).response(small, g), expected, cv::NORM_INF), 1e-5 * largest)
-        << "window sigma " << window_sigma;
+    const Detector detector(params);
+    const cv::Mat readable = responseOnPath(detector, small, g, false);
+    const cv::Mat kernel = responseOnPath(detector, small, g, true);
+    EXPECT_LT(cv::norm(readable, expected, cv::NORM_INF), 1e-5 * largest) << "window sigma " << window_sigma;
+    EXPECT_LT(cv::norm(kernel, readable, cv::NORM_INF), 1e-5 * largest) << "window sigma " << window_sigma;
   }
+}
+
+TEST(Detector, BothPathsDetectTheSameKeypoints) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  const Detector detector;
+  std::vector<cv::KeyPoint> fast, readable;
+  detector.detect(frame, g, fast);
+  cv::setUseOptimized(false);
+  detector.detect(frame, g, readable);
+  cv::setUseOptimized(true);
+  ASSERT_GT(fast.size(), 100u);
+  // Float rounding may reorder near-equal responses at the budget's edge.
+  size_t same = 0;
+  for (const cv::KeyPoint& k : fast) {
+    same += std::any_of(readable.begin(), readable.end(), [&](const cv::KeyPoint& r) { return r.pt == k.pt; });
+  }
+  EXPECT_GE(same, fast.size() * 98 / 100);
 }
 
 TEST(Detector, KeypointsAreTheResponsesLocalMaximaAboveTheThreshold) {

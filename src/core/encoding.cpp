@@ -2,8 +2,8 @@
 
 #include "risas/ranking.hpp"
 
-#include "vector_clones.hpp"
-#include "with_default.hpp"
+#include "kernels/vector_clones.hpp"
+#include "kernels/with_default.hpp"
 
 #include <algorithm>
 #include <cmath>

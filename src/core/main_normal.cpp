@@ -1,9 +1,9 @@
 #include "risas/main_normal.hpp"
 
-#include "enlarged_rows.hpp"
-#include "gaussian_filter.hpp"
-#include "vector_clones.hpp"
-#include "with_default.hpp"
+#include "kernels/enlarged_rows.hpp"
+#include "kernels/gaussian_filter.hpp"
+#include "kernels/vector_clones.hpp"
+#include "kernels/with_default.hpp"
 
 
 #include <algorithm>

@@ -1,8 +1,8 @@
 #include "risas/geometry.hpp"
 
-#include "marked_columns.hpp"
-#include "vector_clones.hpp"
-#include "with_default.hpp"
+#include "kernels/marked_columns.hpp"
+#include "kernels/vector_clones.hpp"
+#include "kernels/with_default.hpp"
 
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>

@@ -23,9 +23,7 @@ class Detector {
   void detect(const RgbdFrame& frame, const FrameGeometry& geometry, std::vector<cv::KeyPoint>& keypoints,
               const cv::Mat& mask = cv::Mat()) const;
 
-  // The Harris response of eq. 1: the structure tensor of the grey image I
-  // and the dot-product image P weighted tau : (1 - tau), then
-  // det(M) - k trace(M)^2. CV_32FC1.
+  // The response of eq. 1 (autocorrelationResponse) over the frame. CV_32FC1.
   cv::Mat response(const RgbdFrame& frame, const FrameGeometry& geometry) const;
 
   const DetectorParams& params() const { return params_; }
@@ -39,6 +37,20 @@ class Detector {
   // made once from the parameters.
   std::vector<float> gray_half_, window_half_;
 };
+
+// Eq. 1 of the paper (eq::autocorrelation), readable. The autocorrelation
+//   E(u,v) = sum_w tau [I_grayscale(x+u, y+v) - I_grayscale(x,y)]^2
+//            + (1 - tau) [I_dp(x+u, y+v) - I_dp(x,y)]^2
+// is, to second order, [u v] M [u v]^T with the structure tensor
+//   M = w * ( tau grad I_grayscale grad I_grayscale^T + (1 - tau) grad I_dp grad I_dp^T ),
+// gradients by Sobel scaled 1/8 (border replicated), w a Gaussian of
+// params.window_sigma (border reflected), and the response is Harris's
+// det(M) - k trace(M)^2 (k = params.harris_k). I_grayscale: the grey image
+// blurred with gray_sigma; I_dp: the dot-product image (eq. 2,
+// dotProductImage); CV_32FC1 of one size. Detector uses it when
+// cv::useOptimized() is false, else its kernel (kernels/autocorrelation_rows),
+// equal to it within float rounding.
+cv::Mat autocorrelationResponse(const cv::Mat& I_grayscale, const cv::Mat& I_dp, const DetectorParams& params);
 
 // Keeps the best `max_count` keypoints by response, spread over a
 // grid_cols x grid_rows grid: each cell first gets an equal share of its own
