@@ -2,6 +2,7 @@
 
 #include "risas/errors.hpp"
 #include "risas/main_normal.hpp"
+#include "risas/workspace.hpp"
 
 #include "kernels/autocorrelation_rows.hpp"
 #include "kernels/gaussian_filter.hpp"
@@ -24,10 +25,12 @@ struct ResponseBuffers {
   cv::Mat P_grid, R;
 };
 
-ResponseBuffers& buffers() {
-  thread_local ResponseBuffers b;
-  return b;
-}
+// The NMS's candidate flags of a row (candidateRow).
+struct NmsCandidates {
+  std::vector<uchar> flags;
+};
+
+ResponseBuffers& buffers() { return Workspace::ofThisThread().get<ResponseBuffers>(); }
 
 // Row v's candidates for a local maximum (1, else 0): above the threshold and
 // not below any 4-neighbour, which no maximum of a larger window is. up and
@@ -124,7 +127,7 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
     return true;
   };
   const int b = params_.border, u_end = R.cols - b;
-  thread_local std::vector<uchar> candidates;
+  std::vector<uchar>& candidates = Workspace::ofThisThread().get<NmsCandidates>().flags;
   candidates.assign(static_cast<size_t>(R.cols) + 8, 0);  // room to read whole eights
   for (int v = b; v < R.rows - b; ++v) {
     const float* r = R.ptr<float>(v);

@@ -1,6 +1,7 @@
 #include "risas/encoding.hpp"
 
 #include "risas/ranking.hpp"
+#include "risas/workspace.hpp"
 
 #include "kernels/vector_clones.hpp"
 #include "kernels/with_default.hpp"
@@ -53,10 +54,12 @@ struct DiscSamples {
   }
 };
 
-DiscSamples& discSamples() {
-  thread_local DiscSamples samples;
-  return samples;
-}
+DiscSamples& discSamples() { return Workspace::ofThisThread().get<DiscSamples>(); }
+
+// The histogram of one patch (PatchEncoder::encode).
+struct Histogram {
+  std::vector<int> counts;
+};
 
 // The disc's offsets (di, dj) in units of its radius, rotated by theta
 // (cos_t and sin_t scaled by the radius) about the keypoint (cu, cv): the
@@ -209,7 +212,7 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   shape_label[kRhoLevels] = static_cast<uint8_t>(params_.n_vec);
 
   const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
-  thread_local std::vector<int> histogram;
+  std::vector<int>& histogram = Workspace::ofThisThread().get<Histogram>().counts;
   histogram.assign(static_cast<size_t>(dimension()), 0);
   for (int s = 0; s < n; ++s) {
     const int bin = (disc_sector_[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +

@@ -1,5 +1,7 @@
 #include "risas/main_normal.hpp"
 
+#include "risas/workspace.hpp"
+
 #include "kernels/enlarged_rows.hpp"
 #include "kernels/gaussian_filter.hpp"
 #include "kernels/vector_clones.hpp"
@@ -77,13 +79,29 @@ void addModeRow(const float* __restrict xyz, const int* __restrict bin, int cols
 
 cv::Vec3i normalLabels(const cv::Vec3f& normal, int n_s) { return labelsOf(normal, SectorBoundaries(n_s)); }
 
+namespace {
+
+struct NormalBins {  // computeMainNormal
+  std::vector<int> bin_of;
+};
+struct DotProductGridBuffers {  // dotProductGrid: P and its weight, and their smoothing
+  cv::Mat p, weight;
+  BlurredRows smoothed_p, smoothed_weight;
+};
+struct DotProductImageBuffers {  // dotProductImage: the grid, enlarged
+  cv::Mat grid;
+  EnlargedRows rows;
+};
+
+}  // namespace
+
 cv::Vec3f computeMainNormal(const cv::Mat& normals, int n_s) {
   CV_Assert(normals.type() == CV_32FC3 && n_s >= 1);
   const int bins = n_s * n_s * n_s;  // bin `bins`: no normal
   const SectorBoundaries boundaries(n_s);
-  // The bin of each normal, reused from frame to frame.
+  // The bin of each normal.
   const int cols = normals.cols;
-  thread_local std::vector<int> bin_of;
+  std::vector<int>& bin_of = Workspace::ofThisThread().get<NormalBins>().bin_of;
   bin_of.resize(normals.total());
   for (int r = 0; r < normals.rows; ++r) {
     withDefault<DetectorParams::kDefaultN_s>(n_s, [&](auto fixed_n_s) {
@@ -118,8 +136,8 @@ void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, doub
   const cv::Mat& normals = geometry.normals;
   CV_Assert(normals.type() == CV_32FC3);
   const int stride = geometry.normal_stride;
-  // Per-thread buffers, reused from frame to frame (see normals.cpp).
-  thread_local cv::Mat p, weight;
+  DotProductGridBuffers& b = Workspace::ofThisThread().get<DotProductGridBuffers>();
+  cv::Mat &p = b.p, &weight = b.weight;
   p.create(normals.size(), CV_32FC1);
   weight.create(normals.size(), CV_32FC1);
   for (int r = 0; r < normals.rows; ++r) {
@@ -139,7 +157,7 @@ void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, doub
   // pixels have no keypoints and no neighbour with one within the Harris
   // window, so 0 is as good as any value there.
   const std::vector<float> half = gaussianHalfKernel(sigma / stride);
-  thread_local BlurredRows smoothed_p, smoothed_weight;
+  BlurredRows &smoothed_p = b.smoothed_p, &smoothed_weight = b.smoothed_weight;
   smoothed_p.reset(p, half, cv::BORDER_REPLICATE);
   smoothed_weight.reset(weight, half, cv::BORDER_REPLICATE);
   grid.create(p.size(), CV_32FC1);
@@ -152,8 +170,9 @@ void dotProductGrid(const FrameGeometry& geometry, const cv::Vec3f& n_main, doub
 }
 
 void dotProductImage(const FrameGeometry& geometry, const cv::Vec3f& n_main, double sigma, cv::Mat& P) {
-  thread_local cv::Mat grid;
-  thread_local EnlargedRows rows;
+  DotProductImageBuffers& b = Workspace::ofThisThread().get<DotProductImageBuffers>();
+  cv::Mat& grid = b.grid;
+  EnlargedRows& rows = b.rows;
   dotProductGrid(geometry, n_main, sigma, grid);
   rows.reset(grid, geometry.normal_stride, geometry.size());
   P.create(geometry.size(), CV_32FC1);

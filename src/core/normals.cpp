@@ -1,5 +1,7 @@
 #include "risas/geometry.hpp"
 
+#include "risas/workspace.hpp"
+
 #include "kernels/marked_columns.hpp"
 #include "kernels/vector_clones.hpp"
 #include "kernels/with_default.hpp"
@@ -239,7 +241,7 @@ void gridPoints(const cv::Mat& depth, const std::vector<float>& x_factor, const 
   for (cv::Mat* plane : {&grid.x, &grid.y, &grid.z}) createPadded(*plane, cv::Size(grid_cols, grid_rows), CV_32FC1);
   on_surface.create(depth.size(), CV_8UC1);
   cv::parallel_for_(cv::Range(0, grid_rows), [&](const cv::Range& range) {
-    thread_local BlockRowSums sums;
+    BlockRowSums& sums = Workspace::ofThisThread().get<BlockRowSums>();
     for (std::vector<float>* v : {&sums.first, &sums.count, &sums.sum_x, &sums.sum_y, &sums.sum_z}) {
       v->resize(static_cast<size_t>(grid_cols));
     }
@@ -396,10 +398,7 @@ struct NormalBuffers {
   cv::Mat interior, surfaces, labels_low, labels_high, window_low, window_high;
 };
 
-NormalBuffers& buffers() {
-  thread_local NormalBuffers b;
-  return b;
-}
+NormalBuffers& buffers() { return Workspace::ofThisThread().get<NormalBuffers>(); }
 
 // Per point, whether its window holds one surface only: the largest and the
 // smallest non-zero label in the window agree. labels_low and labels_high
@@ -484,7 +483,7 @@ void fitNormals(const GridCloud& grid, int radius, float depth_change_factor, in
   const int rows = grid.z.rows, cols = grid.z.cols;
   normals.create(grid.z.size(), CV_32FC3);
   cv::parallel_for_(cv::Range(0, (rows + kBandRows - 1) / kBandRows), [&](const cv::Range& bands) {
-    thread_local BandBuffers band;
+    BandBuffers& band = Workspace::ofThisThread().get<BandBuffers>();
     band.covariances.resize(cols);
     band.boxes.reset(cols, 0);
     band.mixed.assign(static_cast<size_t>(cols) + 8, 0);

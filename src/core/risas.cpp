@@ -3,6 +3,7 @@
 #include "risas/descriptor.hpp"
 #include "risas/detector.hpp"
 #include "risas/geometry.hpp"
+#include "risas/workspace.hpp"
 
 namespace risas {
 
@@ -19,6 +20,11 @@ cv::Ptr<Risas> Risas::create(const RisasParams& params) { return cv::makePtr<Ris
 
 namespace {
 
+// The frame's geometry between the facade's stages.
+struct FacadeGeometry {
+  FrameGeometry geometry;
+};
+
 // Calls use(geometry) with the frame's geometry in this thread's buffers,
 // reused from frame to frame (none of the calls below keeps it past its
 // return). The geometry shares the frame's depth; it is let go afterwards,
@@ -26,10 +32,11 @@ namespace {
 // next call.
 template <class Use>
 void withGeometry(const RgbdFrame& frame, const GeometryParams& params, Use&& use) {
-  thread_local FrameGeometry geometry;
+  FrameGeometry& geometry = Workspace::ofThisThread().get<FacadeGeometry>().geometry;
   struct ReleaseDepth {  // also when use throws (bad input)
+    FrameGeometry& geometry;
     ~ReleaseDepth() { geometry.depth.release(); }
-  } release;
+  } release{geometry};
   computeGeometry(frame, params, geometry);
   use(geometry);
 }

@@ -3,6 +3,8 @@
 // autocorrelation_rows.hpp for the contract.
 #include "autocorrelation_rows.hpp"
 
+#include "risas/workspace.hpp"
+
 #include "enlarged_rows.hpp"
 #include "gaussian_filter.hpp"
 #include "vector_clones.hpp"
@@ -109,6 +111,13 @@ struct WindowRows {
   float* window(int entry) { return row(kGradients + kTensor + kTensor * span + entry); }
 };
 
+// One thread's rows of a stripe: the window's, and I_grayscale's and I_dp's.
+struct StripeBuffers {
+  WindowRows window;
+  BlurredRows gray;
+  EnlargedRows dp;
+};
+
 }  // namespace
 
 float autocorrelationRows(const cv::Mat& gray, const std::vector<float>& gray_half, const cv::Mat& P_grid,
@@ -127,11 +136,12 @@ float autocorrelationRows(const cv::Mat& gray, const std::vector<float>& gray_ha
   std::vector<float> row_max(static_cast<size_t>(size.height));
   withDefault<kDefaultWindowRadius>(window_radius, [&](auto radius) {
     inStripes(size.height, [&](const cv::Range& rows) {
-      thread_local WindowRows w;
+      StripeBuffers& stripe = Workspace::ofThisThread().get<StripeBuffers>();
+      WindowRows& w = stripe.window;
       w.reset(cols, radius);
-      thread_local BlurredRows I;
+      BlurredRows& I = stripe.gray;
       I.reset(gray, gray_half, cv::BORDER_REFLECT_101);
-      thread_local EnlargedRows P;
+      EnlargedRows& P = stripe.dp;
       P.reset(P_grid, normal_stride, size);
       std::vector<const float*> shifted(static_cast<size_t>(w.span)), column(static_cast<size_t>(w.span));
       // Tensor row r (reflected into the image), filtered along the row,
