@@ -16,10 +16,9 @@ struct FrameGeometry {
   // The organised point cloud, kept as the frame's depth (CV_32FC1, metres,
   // NaN where missing; it shares the frame's data) and the back-projection
   // factors of its intrinsics (rayFactors): point(row, col) is
-  // (x_factor[col] z, y_factor[row] z, z), camera optical frame. The steps
-  // read points at a few hundred thousand pixels; writing out all 307,200 of
-  // a VGA frame (3.7 MB) cost more than that. backProject gives the same
-  // points as an image.
+  // (x_factor[col] z, y_factor[row] z, z), camera optical frame; no point
+  // image is formed (docs/performance.md says why). backProject gives the
+  // same points as an image.
   cv::Mat depth;
   std::vector<float> x_factor, y_factor;
 
@@ -56,9 +55,9 @@ struct FrameGeometry {
 };
 
 // The functions with an output argument reuse its buffers when they already
-// have the size and type (cv::Mat::create): a caller processing a stream
-// keeps one FrameGeometry and avoids ~5 MB of fresh allocations per frame.
-// The output must not share data with anything still in use.
+// have the size and type (cv::Mat::create), so a caller processing a stream
+// may keep one FrameGeometry. The output must not share data with anything
+// still in use.
 
 // Back-projects every pixel with fx and fy (the reference used fx for both).
 // x = (u - cx) z / fx, so the factor of z is one per column (and per row for
