@@ -318,5 +318,60 @@ TEST(Geometry, SameNormalsOnAnyNumberOfThreads) {
   EXPECT_GT(cv::countNonZero(single.on_block_surface), static_cast<int>(frame.size().area() / 2));
 }
 
+// The normals with cv::setUseOptimized(optimized), restored after.
+FrameGeometry geometryOnPath(const RgbdFrame& frame, const GeometryParams& params, bool optimized) {
+  const bool before = cv::useOptimized();
+  cv::setUseOptimized(optimized);
+  FrameGeometry g = computeGeometry(frame, params);
+  cv::setUseOptimized(before);
+  return g;
+}
+
+TEST(Geometry, NormalsAreTheWindowedFitOnEveryPath) {
+  // The kernel (box sums in float) against the readable fit (pcaNormals, in
+  // double), on the demo scene and on the same with Kinect-like depth: noise
+  // growing with z^2, millimetre steps, holes.
+  const RgbdFrame clean = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  cv::Mat depth = clean.depth().clone();
+  cv::RNG rng(17);
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      float& z = depth.at<float>(v, u);
+      if (std::isnan(z)) continue;
+      z = rng.uniform(0.0, 1.0) < 0.02 ? NAN : std::round((z + rng.gaussian(0.0015 * z * z)) * 1000.0f) / 1000.0f;
+    }
+  }
+  const RgbdFrame kinect(clean.gray(), depth, clean.intrinsics());
+  for (const RgbdFrame* frame : {&clean, &kinect}) {
+    for (const int stride : {1, 2}) {
+      GeometryParams params;
+      params.normal_stride = stride;
+      const FrameGeometry fast = geometryOnPath(*frame, params, true), readable = geometryOnPath(*frame, params, false);
+      const char* which = frame == &clean ? "clean" : "kinect-like";
+      EXPECT_EQ(cv::norm(fast.on_block_surface, readable.on_block_surface, cv::NORM_INF), 0.0) << which;
+      std::vector<double> angles;
+      int one = 0;  // points with a normal on one path only
+      for (int r = 0; r < fast.normals.rows; ++r) {
+        for (int c = 0; c < fast.normals.cols; ++c) {
+          const cv::Vec3f a = fast.normals.at<cv::Vec3f>(r, c), b = readable.normals.at<cv::Vec3f>(r, c);
+          if ((a[2] != 0.0f) != (b[2] != 0.0f)) ++one;
+          if (a[2] != 0.0f && b[2] != 0.0f) angles.push_back(angleDeg(a, b));
+        }
+      }
+      ASSERT_GT(angles.size(), size_t(fast.normals.total() / 2)) << which;
+      std::sort(angles.begin(), angles.end());
+      const double median = angles[angles.size() / 2];
+      const double within = double(std::lower_bound(angles.begin(), angles.end(), 0.1) - angles.begin()) / angles.size();
+      EXPECT_EQ(one, 0) << which << ", stride " << stride;
+      EXPECT_LT(median, 0.05) << which << ", stride " << stride;
+      // The kernel sharpens adj(C)'s largest column by two power iterations,
+      // exact for flat windows (lambda_1 << lambda_2) and not for rounded or
+      // noisy ones: measured 96 % within 0.1 deg on the clean scene, 71 % on
+      // Kinect-like depth at stride 1 (docs/method.md).
+      EXPECT_GT(within, frame == &clean ? 0.95 : (stride == 1 ? 0.65 : 0.95)) << which << ", stride " << stride;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace risas

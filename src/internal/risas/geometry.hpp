@@ -87,6 +87,13 @@ void estimateNormals(const cv::Mat& depth_metres, const std::vector<float>& x_fa
                      const std::vector<float>& y_factor, const GeometryParams& params, cv::Mat& normals,
                      cv::Mat& on_block_surface);
 
+// The fit itself, readable (normals.cpp): at every point of `points`
+// (CV_32FC3, NaN where none) with a surface label (CV_32S, 0: none), the
+// unit eigenvector of the smallest eigenvalue of the covariance of the
+// points within `radius` that carry the same label, facing the camera;
+// (0, 0, 0) where fewer than min_points, or where they lie on a line.
+cv::Mat pcaNormals(const cv::Mat& points, const cv::Mat& labels, int radius, int min_points);
+
 void computeGeometry(const RgbdFrame& frame, const GeometryParams& params, FrameGeometry& geometry);
 FrameGeometry computeGeometry(const RgbdFrame& frame, const GeometryParams& params);
 
