@@ -1,14 +1,20 @@
+// Paper III-B-3, readable: the disc sampled about the keypoint, each
+// counted sample labelled (spatial sector, intensity rank group, shape rank
+// group) and the labels counted into the histogram. encode runs the kernel
+// (kernels/patch_encoding.cpp) unless cv::useOptimized() is false; tests
+// hold the two equal.
 #include "risas/encoding.hpp"
 
 #include "risas/ranking.hpp"
-#include "risas/workspace.hpp"
 
-#include "kernels/vector_clones.hpp"
-#include "kernels/with_default.hpp"
+#include "kernels/patch_encoding.hpp"
+
+#include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace risas {
 
@@ -33,197 +39,77 @@ PatchEncoder::PatchEncoder(const DescriptorParams& params) : params_(params) {
 
 namespace {
 
-// One keypoint's samples, an array per quantity, so that the loops over the
-// samples vectorise. One set per thread, reused from keypoint to keypoint.
-struct DiscSamples {
-  std::vector<float> x, y;         // image position
-  std::vector<int> u, v, u0, v0;   // nearest pixel, and the bilinear cell's corner
-  std::vector<uint8_t> inside, on_surface;
-  // The cell's grey values, bytes 0 to 3: (u0, v0), (u0 + 1, v0), (u0, v0 + 1)
-  // and (u0 + 1, v0 + 1).
-  std::vector<uint32_t> cell;
-  std::vector<float> z, x_factor, y_factor, nx, ny, nz;  // at the nearest pixel
-  std::vector<uint8_t> counts, level;
-  std::vector<uint16_t> rho_level;
-  void resize(size_t n) {
-    for (auto* a : {&x, &y, &z, &x_factor, &y_factor, &nx, &ny, &nz}) a->resize(n);
-    for (auto* a : {&u, &v, &u0, &v0}) a->resize(n);
-    for (auto* a : {&inside, &on_surface, &counts, &level}) a->resize(n);
-    cell.resize(n);
-    rho_level.resize(n);
-  }
+// One counted sample's labels before ranking: its spatial label, its grey
+// level (0..255) and its shape level (rho quantised, kFlat when rho >= rho-bar).
+struct SampleLevels {
+  int sector, grey, shape;
 };
-
-DiscSamples& discSamples() { return Workspace::ofThisThread().get<DiscSamples>(); }
-
-// The histogram of one patch (PatchEncoder::encode).
-struct Histogram {
-  std::vector<int> counts;
-};
-
-// The disc's offsets (di, dj) in units of its radius, rotated by theta
-// (cos_t and sin_t scaled by the radius) about the keypoint (cu, cv): the
-// patch's x axis along theta, its y axis 90 degrees on (image v points
-// down). Each sample's nearest pixel (rounded half to even, as cvRound) and
-// bilinear cell, clamped into the image; samples outside it are marked.
-RISAS_VECTOR_CLONES
-void placeSamples(const float* di, const float* dj, int n, float cu, float cv, float cos_t, float sin_t, int cols,
-                  int rows, DiscSamples& d) {
-  const float max_u = static_cast<float>(cols - 1), max_v = static_cast<float>(rows - 1);
-  float *x = d.x.data(), *y = d.y.data();
-  int *u = d.u.data(), *v = d.v.data(), *u0 = d.u0.data(), *v0 = d.v0.data();
-  uint8_t* inside = d.inside.data();
-#pragma GCC ivdep  // the arrays are distinct
-  for (int s = 0; s < n; ++s) {
-    const float xs = cu + cos_t * di[s] - sin_t * dj[s];
-    const float ys = cv + sin_t * di[s] + cos_t * dj[s];
-    x[s] = xs, y[s] = ys;
-    inside[s] = (xs >= 0.0f) & (ys >= 0.0f) & (xs <= max_u) & (ys <= max_v);
-    // Clamped in float first, so that the conversions stay in an int's range.
-    const float xc = std::min(xs > 0.0f ? xs : 0.0f, max_u), yc = std::min(ys > 0.0f ? ys : 0.0f, max_v);
-    u[s] = static_cast<int>(std::nearbyint(xc));
-    v[s] = static_cast<int>(std::nearbyint(yc));
-    u0[s] = std::min(static_cast<int>(xc), cols - 2);
-    v0[s] = std::min(static_cast<int>(yc), rows - 2);
-  }
-}
-
-// Each sample's look-ups, one by one: its pixel's surface flag, block normal,
-// depth and back-projection factors, and its cell's 2 x 2 grey values. In
-// two passes, the normals in the second: in one, the loop held more
-// pointers than the CPU has registers and reloaded them every sample.
-// Stride is an int or, for the default, a compile-time constant (a shift).
-template <class Stride>
-void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
-  // Raw pointers and steps, read once: the byte stores could alias
-  // anything read through d, geometry or the images' headers.
-  const int *pu = d.u.data(), *pv = d.v.data(), *pu0 = d.u0.data(), *pv0 = d.v0.data();
-  uint8_t* on = d.on_surface.data();
-  uint32_t* cell = d.cell.data();
-  float *z = d.z.data(), *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
-  const uchar* gray_data = gray.data;
-  const size_t gray_step = gray.step;
-  const uchar* on_data = geometry.on_block_surface.data;
-  const size_t on_step = geometry.on_block_surface.step;
-  const uchar* depth_data = geometry.depth.data;
-  const size_t depth_step = geometry.depth.step;
-  const float *x_table = geometry.x_factor.data(), *y_table = geometry.y_factor.data();
-  for (int s = 0; s < n; ++s) {
-    const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
-    on[s] = on_data[v * on_step + u];
-    z[s] = reinterpret_cast<const float*>(depth_data + v * depth_step)[u];
-    x_factor[s] = x_table[u];
-    y_factor[s] = y_table[v];
-    // The four in one store (and, on a little-endian CPU, each row's two in
-    // one load: the compiler merges them).
-    const uchar* row0 = gray_data + static_cast<size_t>(pv0[s]) * gray_step + pu0[s];
-    const uchar* row1 = row0 + gray_step;
-    cell[s] = static_cast<uint32_t>(row0[0]) | static_cast<uint32_t>(row0[1]) << 8 |
-              static_cast<uint32_t>(row1[0]) << 16 | static_cast<uint32_t>(row1[1]) << 24;
-  }
-  float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
-  const uchar* normals_data = geometry.normals.data;
-  const size_t normals_step = geometry.normals.step;
-  const unsigned block_stride = stride;  // a shift for the default stride
-  for (int s = 0; s < n; ++s) {
-    const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
-    const float* normal =
-        reinterpret_cast<const float*>(normals_data + v / block_stride * normals_step) + u / block_stride * 3;
-    nx[s] = normal[0], ny[s] = normal[1], nz[s] = normal[2];
-  }
-}
-
-// The keypoint's point k and normal n_k, with the squared background
-// distance t^2 and rho-bar.
-struct KeypointFrame {
-  float kx, ky, kz, nkx, nky, nkz, t2, rho_bar;
-};
-
-// Which samples count (inside the image, on their block's surface with a
-// normal, FrameGeometry::hasNormal, and not background, eq. 5), their
-// bilinear grey level rounded to 0 .. 255, and their shape level: the flat
-// majority (rho >= rho-bar) is level kRhoLevels, the rest are ranked on
-// kRhoLevels levels of rho / rho-bar.
-constexpr int kRhoLevels = 256;
-RISAS_VECTOR_CLONES
-void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
-  const KeypointFrame f = k;  // copied, and raw pointers: the byte stores could alias anything read through d
-  const float *x = d.x.data(), *y = d.y.data(), *z = d.z.data(), *x_factor = d.x_factor.data();
-  const float *y_factor = d.y_factor.data(), *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
-  const int *u0 = d.u0.data(), *v0 = d.v0.data();
-  const uint8_t *inside = d.inside.data(), *on = d.on_surface.data();
-  const uint32_t* cell = d.cell.data();
-  uint8_t *counts = d.counts.data(), *level = d.level.data();
-  uint16_t* rho_level = d.rho_level.data();
-#pragma GCC ivdep  // the arrays are distinct
-  for (int s = 0; s < n; ++s) {
-    const float dx = x_factor[s] * z[s] - f.kx, dy = y_factor[s] * z[s] - f.ky, dz = z[s] - f.kz;
-    counts[s] = inside[s] & (on[s] != 0) & (nz[s] != 0.0f) & (dx * dx + dy * dy + dz * dz < f.t2);
-    const float a = x[s] - static_cast<float>(u0[s]), b = y[s] - static_cast<float>(v0[s]);
-    const float g00 = static_cast<float>(cell[s] & 0xff), g01 = static_cast<float>(cell[s] >> 8 & 0xff);
-    const float g10 = static_cast<float>(cell[s] >> 16 & 0xff), g11 = static_cast<float>(cell[s] >> 24);
-    const float intensity = (1.0f - b) * ((1.0f - a) * g00 + a * g01) + b * ((1.0f - a) * g10 + a * g11);
-    // Rounded; in [0, 255] inside the image, and only those samples count.
-    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));
-    const float rho = std::abs(f.nkx * nx[s] + f.nky * ny[s] + f.nkz * nz[s]);
-    const float ratio = rho < f.rho_bar ? rho / f.rho_bar : 1.0f;  // no division by a rho-bar of 0
-    const int ranked = std::min(static_cast<int>(ratio * kRhoLevels), kRhoLevels - 1);
-    rho_level[s] = static_cast<uint16_t>(rho >= f.rho_bar ? kRhoLevels : ranked);
-  }
-}
+constexpr int kRhoLevels = 256, kFlat = kRhoLevels;
 
 }  // namespace
 
 bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry, const Neighbourhood& nb,
                           float radius_px, double theta, float* out) const {
+  if (cv::useOptimized()) {
+    return encodePatchKernel(frame.gray(), geometry, nb, radius_px, theta, {disc_i_, disc_j_, disc_sector_}, params_,
+                             out);
+  }
+  // The readable encoding, as the paper builds the histogram (III-B-3).
   const cv::Mat& gray = frame.gray();
+  const float cos_t = static_cast<float>(std::cos(theta)) * radius_px;
+  const float sin_t = static_cast<float>(std::sin(theta)) * radius_px;
+  const float t2 = static_cast<float>(params_.background_distance * params_.background_distance);
+  const float rho_bar = static_cast<float>(params_.rho_threshold);
+  const cv::Vec3f k(static_cast<float>(nb.point.x()), static_cast<float>(nb.point.y()),
+                    static_cast<float>(nb.point.z()));
+  const cv::Vec3f n_k(static_cast<float>(nb.normal.x()), static_cast<float>(nb.normal.y()),
+                      static_cast<float>(nb.normal.z()));
+  std::vector<SampleLevels> counted;
+  for (size_t s = 0; s < disc_i_.size(); ++s) {
+    // The sample's place in the image: the disc rotated by theta about the keypoint.
+    const float x = nb.centre.x + cos_t * disc_i_[s] - sin_t * disc_j_[s];
+    const float y = nb.centre.y + sin_t * disc_i_[s] + cos_t * disc_j_[s];
+    if (!(x >= 0.0f && y >= 0.0f && x <= gray.cols - 1 && y <= gray.rows - 1)) continue;
+    // It counts when its nearest pixel has a normal and is foreground (eq. 5).
+    const int u = static_cast<int>(std::nearbyint(x)), v = static_cast<int>(std::nearbyint(y));
+    if (!geometry.hasNormal(v, u)) continue;
+    const cv::Vec3f p = geometry.point(v, u) - k;
+    if (!(p.dot(p) < t2)) continue;
+    // Grey level: bilinear, rounded.
+    const int u0 = std::min(static_cast<int>(x), gray.cols - 2), v0 = std::min(static_cast<int>(y), gray.rows - 2);
+    const float a = x - static_cast<float>(u0), b = y - static_cast<float>(v0);
+    const auto g = [&](int dv, int du) { return static_cast<float>(gray.at<uchar>(v0 + dv, u0 + du)); };
+    const float grey = (1.0f - b) * ((1.0f - a) * g(0, 0) + a * g(0, 1)) + b * ((1.0f - a) * g(1, 0) + a * g(1, 1));
+    // Shape: rho = |n_k . n_i| (eq. 8); the flat majority at or above rho-bar
+    // is one level, the rest are ranked on rho / rho-bar.
+    const float rho = std::abs(n_k.dot(geometry.normal(v, u)));
+    const int shape = rho >= rho_bar ? kFlat : std::min(static_cast<int>(rho / rho_bar * kRhoLevels), kRhoLevels - 1);
+    counted.push_back({disc_sector_[s], static_cast<int>(grey + 0.5f), shape});
+  }
   const int n = static_cast<int>(disc_i_.size());
-  DiscSamples& d = discSamples();
-  d.resize(static_cast<size_t>(n));
-  placeSamples(disc_i_.data(), disc_j_.data(), n, nb.centre.x, nb.centre.y,
-               static_cast<float>(std::cos(theta)) * radius_px, static_cast<float>(std::sin(theta)) * radius_px,
-               gray.cols, gray.rows, d);
-  withDefault<GeometryParams::kDefaultNormalStride>(geometry.normal_stride, [&](auto stride) {
-    lookUpSamples(gray, geometry, stride, n, d);
-  });
-  const KeypointFrame k{static_cast<float>(nb.point.x()),  static_cast<float>(nb.point.y()),
-                        static_cast<float>(nb.point.z()),  static_cast<float>(nb.normal.x()),
-                        static_cast<float>(nb.normal.y()), static_cast<float>(nb.normal.z()),
-                        static_cast<float>(params_.background_distance * params_.background_distance),
-                        static_cast<float>(params_.rho_threshold)};
-  labelSamples(k, n, d);
+  if (counted.size() < params_.min_valid_fraction * n || counted.size() < 3) return false;
 
-  // The level histograms of the counted samples, added to without a branch
-  // (a sample adds its count, 0 or 1). rho_count[kRhoLevels] counts the
-  // flat samples, which are not ranked.
-  int intensity_count[256] = {}, rho_count[kRhoLevels + 1] = {}, counted = 0;
-  for (int s = 0; s < n; ++s) {
-    intensity_count[d.level[s]] += d.counts[s];
-    rho_count[d.rho_level[s]] += d.counts[s];
-    counted += d.counts[s];
+  // Intensity label: the grey level's rank group among the counted samples;
+  // shape label: the shape level's rank group among the non-flat ones, the
+  // flat ones n_vec.
+  std::vector<uint16_t> greys, shapes;
+  for (const SampleLevels& c : counted) {
+    greys.push_back(static_cast<uint16_t>(c.grey));
+    if (c.shape != kFlat) shapes.push_back(static_cast<uint16_t>(c.shape));
   }
-  if (counted < params_.min_valid_fraction * n || counted < 3) return false;
+  std::vector<uint8_t> intensity_label, shape_rank;
+  rankGroups(greys, 256, params_.n_bin, intensity_label);
+  rankGroups(shapes, kRhoLevels, params_.n_vec, shape_rank);
 
-  // Rank groups by counting sort: a sample's group depends only on its
-  // level, so each level's group is tabulated once.
-  uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
-  rankGroupTable(intensity_count, 256, params_.n_bin, intensity_label);
-  rankGroupTable(rho_count, kRhoLevels, params_.n_vec, shape_label);
-  shape_label[kRhoLevels] = static_cast<uint8_t>(params_.n_vec);
-
-  const int n_bin = params_.n_bin, n_shape = params_.n_vec + 1;
-  std::vector<int>& histogram = Workspace::ofThisThread().get<Histogram>().counts;
-  histogram.assign(static_cast<size_t>(dimension()), 0);
-  for (int s = 0; s < n; ++s) {
-    const int bin = (disc_sector_[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
-                    shape_label[d.rho_level[s]];
-    histogram[static_cast<size_t>(bin)] += d.counts[s];
+  std::vector<float> histogram(static_cast<size_t>(dimension()), 0.0f);
+  const int n_shape = params_.n_vec + 1;
+  size_t ranked = 0;
+  for (size_t c = 0; c < counted.size(); ++c) {
+    const int shape_label = counted[c].shape == kFlat ? params_.n_vec : shape_rank[ranked++];
+    histogram[static_cast<size_t>((counted[c].sector * params_.n_bin + intensity_label[c]) * n_shape + shape_label)] += 1.0f;
   }
-  for (int i = 0; i < dimension(); ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
-  float norm = 0.0f;
-  for (int d = 0; d < dimension(); ++d) norm += out[d] * out[d];
-  const float inv = 1.0f / std::sqrt(norm);
-  for (int d = 0; d < dimension(); ++d) out[d] *= inv;
+  const double norm = cv::norm(histogram);
+  for (int i = 0; i < dimension(); ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)] / norm);
   return true;
 }
 

@@ -1,0 +1,215 @@
+// The fast kernel of the descriptor's histogram (PatchEncoder::encode,
+// encoding.cpp): the same samples, labels and histogram, each pass over the
+// disc's samples one loop over arrays that vectorises. See
+// patch_encoding.hpp for the contract.
+#include "patch_encoding.hpp"
+
+#include "risas/ranking.hpp"
+#include "risas/workspace.hpp"
+
+#include "vector_clones.hpp"
+#include "with_default.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace risas {
+
+namespace {
+
+// One keypoint's samples, an array per quantity, so that the loops over the
+// samples vectorise. One set per thread, reused from keypoint to keypoint.
+struct DiscSamples {
+  std::vector<float> x, y;         // image position
+  std::vector<int> u, v, u0, v0;   // nearest pixel, and the bilinear cell's corner
+  std::vector<uint8_t> inside, on_surface;
+  // The cell's grey values, bytes 0 to 3: (u0, v0), (u0 + 1, v0), (u0, v0 + 1)
+  // and (u0 + 1, v0 + 1).
+  std::vector<uint32_t> cell;
+  std::vector<float> z, x_factor, y_factor, nx, ny, nz;  // at the nearest pixel
+  std::vector<uint8_t> counts, level;
+  std::vector<uint16_t> rho_level;
+  void resize(size_t n) {
+    for (auto* a : {&x, &y, &z, &x_factor, &y_factor, &nx, &ny, &nz}) a->resize(n);
+    for (auto* a : {&u, &v, &u0, &v0}) a->resize(n);
+    for (auto* a : {&inside, &on_surface, &counts, &level}) a->resize(n);
+    cell.resize(n);
+    rho_level.resize(n);
+  }
+};
+
+DiscSamples& discSamples() { return Workspace::ofThisThread().get<DiscSamples>(); }
+
+// The histogram of one patch (PatchEncoder::encode).
+struct Histogram {
+  std::vector<int> counts;
+};
+
+// The disc's offsets (di, dj) in units of its radius, rotated by theta
+// (cos_t and sin_t scaled by the radius) about the keypoint (cu, cv): the
+// patch's x axis along theta, its y axis 90 degrees on (image v points
+// down). Each sample's nearest pixel (rounded half to even, as cvRound) and
+// bilinear cell, clamped into the image; samples outside it are marked.
+RISAS_VECTOR_CLONES
+void placeSamples(const float* di, const float* dj, int n, float cu, float cv, float cos_t, float sin_t, int cols,
+                  int rows, DiscSamples& d) {
+  const float max_u = static_cast<float>(cols - 1), max_v = static_cast<float>(rows - 1);
+  float *x = d.x.data(), *y = d.y.data();
+  int *u = d.u.data(), *v = d.v.data(), *u0 = d.u0.data(), *v0 = d.v0.data();
+  uint8_t* inside = d.inside.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float xs = cu + cos_t * di[s] - sin_t * dj[s];
+    const float ys = cv + sin_t * di[s] + cos_t * dj[s];
+    x[s] = xs, y[s] = ys;
+    inside[s] = (xs >= 0.0f) & (ys >= 0.0f) & (xs <= max_u) & (ys <= max_v);
+    // Clamped in float first, so that the conversions stay in an int's range.
+    const float xc = std::min(xs > 0.0f ? xs : 0.0f, max_u), yc = std::min(ys > 0.0f ? ys : 0.0f, max_v);
+    u[s] = static_cast<int>(std::nearbyint(xc));
+    v[s] = static_cast<int>(std::nearbyint(yc));
+    u0[s] = std::min(static_cast<int>(xc), cols - 2);
+    v0[s] = std::min(static_cast<int>(yc), rows - 2);
+  }
+}
+
+// Each sample's look-ups, one by one: its pixel's surface flag, block normal,
+// depth and back-projection factors, and its cell's 2 x 2 grey values. In
+// two passes, the normals in the second: in one, the loop held more
+// pointers than the CPU has registers and reloaded them every sample.
+// Stride is an int or, for the default, a compile-time constant (a shift).
+template <class Stride>
+void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
+  // Raw pointers and steps, read once: the byte stores could alias
+  // anything read through d, geometry or the images' headers.
+  const int *pu = d.u.data(), *pv = d.v.data(), *pu0 = d.u0.data(), *pv0 = d.v0.data();
+  uint8_t* on = d.on_surface.data();
+  uint32_t* cell = d.cell.data();
+  float *z = d.z.data(), *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
+  const uchar* gray_data = gray.data;
+  const size_t gray_step = gray.step;
+  const uchar* on_data = geometry.on_block_surface.data;
+  const size_t on_step = geometry.on_block_surface.step;
+  const uchar* depth_data = geometry.depth.data;
+  const size_t depth_step = geometry.depth.step;
+  const float *x_table = geometry.x_factor.data(), *y_table = geometry.y_factor.data();
+  for (int s = 0; s < n; ++s) {
+    const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
+    on[s] = on_data[v * on_step + u];
+    z[s] = reinterpret_cast<const float*>(depth_data + v * depth_step)[u];
+    x_factor[s] = x_table[u];
+    y_factor[s] = y_table[v];
+    // The four in one store (and, on a little-endian CPU, each row's two in
+    // one load: the compiler merges them).
+    const uchar* row0 = gray_data + static_cast<size_t>(pv0[s]) * gray_step + pu0[s];
+    const uchar* row1 = row0 + gray_step;
+    cell[s] = static_cast<uint32_t>(row0[0]) | static_cast<uint32_t>(row0[1]) << 8 |
+              static_cast<uint32_t>(row1[0]) << 16 | static_cast<uint32_t>(row1[1]) << 24;
+  }
+  float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
+  const uchar* normals_data = geometry.normals.data;
+  const size_t normals_step = geometry.normals.step;
+  const unsigned block_stride = stride;  // a shift for the default stride
+  for (int s = 0; s < n; ++s) {
+    const unsigned u = static_cast<unsigned>(pu[s]), v = static_cast<unsigned>(pv[s]);
+    const float* normal =
+        reinterpret_cast<const float*>(normals_data + v / block_stride * normals_step) + u / block_stride * 3;
+    nx[s] = normal[0], ny[s] = normal[1], nz[s] = normal[2];
+  }
+}
+
+// The keypoint's point k and normal n_k, with the squared background
+// distance t^2 and rho-bar.
+struct KeypointFrame {
+  float kx, ky, kz, nkx, nky, nkz, t2, rho_bar;
+};
+
+// Which samples count (inside the image, on their block's surface with a
+// normal, FrameGeometry::hasNormal, and not background, eq. 5), their
+// bilinear grey level rounded to 0 .. 255, and their shape level: the flat
+// majority (rho >= rho-bar) is level kRhoLevels, the rest are ranked on
+// kRhoLevels levels of rho / rho-bar.
+constexpr int kRhoLevels = 256;
+RISAS_VECTOR_CLONES
+void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
+  const KeypointFrame f = k;  // copied, and raw pointers: the byte stores could alias anything read through d
+  const float *x = d.x.data(), *y = d.y.data(), *z = d.z.data(), *x_factor = d.x_factor.data();
+  const float *y_factor = d.y_factor.data(), *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
+  const int *u0 = d.u0.data(), *v0 = d.v0.data();
+  const uint8_t *inside = d.inside.data(), *on = d.on_surface.data();
+  const uint32_t* cell = d.cell.data();
+  uint8_t *counts = d.counts.data(), *level = d.level.data();
+  uint16_t* rho_level = d.rho_level.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float dx = x_factor[s] * z[s] - f.kx, dy = y_factor[s] * z[s] - f.ky, dz = z[s] - f.kz;
+    counts[s] = inside[s] & (on[s] != 0) & (nz[s] != 0.0f) & (dx * dx + dy * dy + dz * dz < f.t2);
+    const float a = x[s] - static_cast<float>(u0[s]), b = y[s] - static_cast<float>(v0[s]);
+    const float g00 = static_cast<float>(cell[s] & 0xff), g01 = static_cast<float>(cell[s] >> 8 & 0xff);
+    const float g10 = static_cast<float>(cell[s] >> 16 & 0xff), g11 = static_cast<float>(cell[s] >> 24);
+    const float intensity = (1.0f - b) * ((1.0f - a) * g00 + a * g01) + b * ((1.0f - a) * g10 + a * g11);
+    // Rounded; in [0, 255] inside the image, and only those samples count.
+    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));
+    const float rho = std::abs(f.nkx * nx[s] + f.nky * ny[s] + f.nkz * nz[s]);
+    const float ratio = rho < f.rho_bar ? rho / f.rho_bar : 1.0f;  // no division by a rho-bar of 0
+    const int ranked = std::min(static_cast<int>(ratio * kRhoLevels), kRhoLevels - 1);
+    rho_level[s] = static_cast<uint16_t>(rho >= f.rho_bar ? kRhoLevels : ranked);
+  }
+}
+
+}  // namespace
+
+bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const Neighbourhood& nb, float radius_px,
+                       double theta, const DiscLayout& disc, const DescriptorParams& params, float* out) {
+  const int n = static_cast<int>(disc.i.size());
+  const int dimension = params.dimension();
+  DiscSamples& d = discSamples();
+  d.resize(static_cast<size_t>(n));
+  placeSamples(disc.i.data(), disc.j.data(), n, nb.centre.x, nb.centre.y,
+               static_cast<float>(std::cos(theta)) * radius_px, static_cast<float>(std::sin(theta)) * radius_px,
+               gray.cols, gray.rows, d);
+  withDefault<GeometryParams::kDefaultNormalStride>(geometry.normal_stride, [&](auto stride) {
+    lookUpSamples(gray, geometry, stride, n, d);
+  });
+  const KeypointFrame k{static_cast<float>(nb.point.x()),  static_cast<float>(nb.point.y()),
+                        static_cast<float>(nb.point.z()),  static_cast<float>(nb.normal.x()),
+                        static_cast<float>(nb.normal.y()), static_cast<float>(nb.normal.z()),
+                        static_cast<float>(params.background_distance * params.background_distance),
+                        static_cast<float>(params.rho_threshold)};
+  labelSamples(k, n, d);
+
+  // The level histograms of the counted samples, added to without a branch
+  // (a sample adds its count, 0 or 1). rho_count[kRhoLevels] counts the
+  // flat samples, which are not ranked.
+  int intensity_count[256] = {}, rho_count[kRhoLevels + 1] = {}, counted = 0;
+  for (int s = 0; s < n; ++s) {
+    intensity_count[d.level[s]] += d.counts[s];
+    rho_count[d.rho_level[s]] += d.counts[s];
+    counted += d.counts[s];
+  }
+  if (counted < params.min_valid_fraction * n || counted < 3) return false;
+
+  // Rank groups by counting sort: a sample's group depends only on its
+  // level, so each level's group is tabulated once.
+  uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
+  rankGroupTable(intensity_count, 256, params.n_bin, intensity_label);
+  rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
+  shape_label[kRhoLevels] = static_cast<uint8_t>(params.n_vec);
+
+  const int n_bin = params.n_bin, n_shape = params.n_vec + 1;
+  std::vector<int>& histogram = Workspace::ofThisThread().get<Histogram>().counts;
+  histogram.assign(static_cast<size_t>(dimension), 0);
+  for (int s = 0; s < n; ++s) {
+    const int bin = (disc.sector[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
+                    shape_label[d.rho_level[s]];
+    histogram[static_cast<size_t>(bin)] += d.counts[s];
+  }
+  for (int i = 0; i < dimension; ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
+  float norm = 0.0f;
+  for (int d = 0; d < dimension; ++d) norm += out[d] * out[d];
+  const float inv = 1.0f / std::sqrt(norm);
+  for (int d = 0; d < dimension; ++d) out[d] *= inv;
+  return true;
+}
+
+}  // namespace risas
