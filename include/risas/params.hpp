@@ -92,8 +92,8 @@ struct DescriptorParams {
   // t of eq. 5: neighbours farther than this from the keypoint's 3D point (m)
   // are background and eliminated.
   double background_distance = 0.1;
-  // The rotated patch is resampled to a disc of this radius (ref: 20 -> 41x41).
-  // 14 (29x29) costs half the samples at a mean PR-AUC within 0.003 of 20's.
+  // The rotated patch is resampled to a disc of this radius (ref: 20 -> 41x41;
+  // docs/method.md says what 14 gives).
   int patch_radius = 14;
   // Patch radius bounds in image pixels (ref: fall back above 50 px).
   double min_radius_px = 6.0;
@@ -103,8 +103,8 @@ struct DescriptorParams {
   double min_valid_fraction = 0.5;
   // Where theta comes from. true: the paper's eq. 7, the 3D direction d3D
   // projected into the image. false: the rank-weighted intensity centroid of
-  // the patch, on which the descriptor was measured to match better across
-  // viewpoints (docs/evaluation.md); eq. 7's gamma rule still rejects
+  // the patch, on which the descriptor matches better across viewpoints
+  // (docs/evaluation.md); eq. 7's gamma rule still rejects
   // shapeless patches either way.
   bool shape_orientation = false;
   // With shape_orientation: below this angle (deg) between d3D and the

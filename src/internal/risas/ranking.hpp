@@ -16,8 +16,8 @@ namespace risas {
 void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table);
 
 // Ranks cut into `groups` groups of equal size: group = rank * groups / count.
-// Values must lie in [0, levels). (Giving ties their run's middle rank
-// instead was measured worse under the paper's intensity transforms.)
+// Values must lie in [0, levels). Ties share the lower group
+// (docs/method.md says why).
 void rankGroups(const std::vector<uint16_t>& values, int levels, int groups, std::vector<uint8_t>& labels);
 
 }  // namespace risas
