@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include <optional>
 #include <string>
@@ -31,6 +32,14 @@ struct TumSequence {
   int unmatched_depth = 0;
   int without_pose = 0;          // frames with no ground truth near them
 };
+
+// A frame's images: colour (BGR) and depth in metres (CV_32FC1, 0 where
+// missing), read as readRgbdImages reads them and scaled by
+// kTumDepthUnitsPerMetre: the one place a TUM depth value becomes metres.
+struct TumImages {
+  cv::Mat bgr, depth_metres;
+};
+TumImages readTumImages(const TumFrame& frame);
 
 // A pose at a time stamp: one line of a TUM trajectory file.
 struct StampedPose {

@@ -1,6 +1,7 @@
 #include "risas/tum_sequence.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/io.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -185,6 +186,13 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
                      " s of it");
   }
   return sequence;
+}
+
+TumImages readTumImages(const TumFrame& frame) {
+  const RgbdImages images = readRgbdImages(frame.rgb, frame.depth);
+  TumImages tum{images.bgr, cv::Mat()};
+  images.depth_mm.convertTo(tum.depth_metres, CV_32F, 1.0 / kTumDepthUnitsPerMetre);
+  return tum;
 }
 
 }  // namespace risas

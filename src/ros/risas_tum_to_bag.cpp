@@ -6,7 +6,6 @@
 #include "../tools/cli.hpp"
 #include "bag_frames.hpp"
 
-#include "risas/io.hpp"
 #include "risas/tum_sequence.hpp"
 
 #include <iostream>
@@ -34,14 +33,12 @@ int main(int argc, char** argv) {
     risas_ros::openBagForWriting(bag, out);
     for (size_t i = 0; i < sequence.frames.size(); ++i) {
       const risas::TumFrame& f = sequence.frames[i];
-      const risas::RgbdImages images = risas::readRgbdImages(f.rgb, f.depth);
-      cv::Mat metres;
-      images.depth_mm.convertTo(metres, CV_32F, 1.0 / risas::kTumDepthUnitsPerMetre);
+      const risas::TumImages images = risas::readTumImages(f);
       std_msgs::Header header;
       header.seq = static_cast<uint32_t>(i);
       header.stamp = ros::Time(f.stamp);
       header.frame_id = args.get("frame-id", "camera_rgb_optical_frame");
-      risas_ros::writeRgbdFrame(bag, ns, header, images.bgr, metres, K);
+      risas_ros::writeRgbdFrame(bag, ns, header, images.bgr, images.depth_metres, K);
     }
     bag.close();
     std::cout << sequence.frames.size() << " frames written to " << out << " (" << ns << "/rgb/image_rect_color, "

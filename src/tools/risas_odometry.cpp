@@ -6,7 +6,6 @@
 #include "risas/errors.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"
-#include "risas/io.hpp"
 #include "risas/odometry.hpp"
 #include "risas/risas.hpp"
 #include "risas/tum_sequence.hpp"
@@ -86,10 +85,8 @@ int main(int argc, char** argv) {
     }
     for (int i = 0; i < std::min<int>(max_frames, static_cast<int>(sequence.frames.size())); ++i) {
       const risas::TumFrame& f = sequence.frames[static_cast<size_t>(i)];
-      const risas::RgbdImages images = risas::readRgbdImages(f.rgb, f.depth);
-      cv::Mat depth;
-      images.depth_mm.convertTo(depth, CV_32F, 1.0 / risas::kTumDepthUnitsPerMetre);
-      const risas::RgbdFrame frame(images.bgr, depth, K);
+      const risas::TumImages images = risas::readTumImages(f);
+      const risas::RgbdFrame frame(images.bgr, images.depth_metres, K);
       const risas::Features features = features_name == "ORB" ? orbFeatures(orb, frame) : risas->extract(frame);
       const risas::OdometryResult r = odometry.track(features);
       trajectory.push_back({f.stamp, r.world_T_camera});
