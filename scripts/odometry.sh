@@ -16,13 +16,17 @@ risas_build > "$RISAS_WS/build.log" 2>&1 || { tail -30 "$RISAS_WS/build.log"; ex
 
 # name folder intrinsics, as ../shared/data/tum/README.md gives them
 while read -r name folder fx fy cx cy; do
-  for features in RISAS ORB; do
-    echo "== $name, $features"
+  # RISAS at the defaults, RISAS with config/odometry.yaml (RISAS_vo), ORB.
+  for run in RISAS RISAS_vo ORB; do
+    echo "== $name, $run"
+    params=()
+    [ "$run" = RISAS_vo ] && params=(--params "$RISAS_ROOT/config/odometry.yaml")
     "$RISAS_BIN/risas_odometry" --tum "$tum/$folder" --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy" \
-      --features "$features" --out "$out/${name}_${features}.txt" --frames "$out/${name}_${features}.csv"
+      --features "${run%_vo}" "${params[@]}" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv"
   done
   python3 "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
-    "$out/${name}_RISAS.txt=RISAS" "$out/${name}_ORB.txt=ORB" --out "$out/${name}.png"
+    "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \
+    --out "$out/${name}.png"
 done <<'LIST'
 fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3
 fr3_cabinet fr3_cabinet_keyframes 535.4 539.2 320.1 247.6

@@ -128,21 +128,41 @@ TEST(DotProductImage, IsTheNormalisedConvolutionOfTheBlocksEnlargedAsOpenCVWould
   }
 }
 
-TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
-  // Black squares on white on a plane facing the camera at 1 m.
-  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(230));
-  std::vector<cv::Point2f> corners;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      const cv::Rect square(80 + 130 * i, 70 + 130 * j, 60, 60);
-      grey(square).setTo(20);
-      for (const cv::Point& p : {square.tl(), cv::Point(square.br().x - 1, square.y), square.br() - cv::Point(1, 1),
-                                 cv::Point(square.x, square.br().y - 1)}) {
-        corners.emplace_back(p);
+// A 4x3 grid of 60-pixel squares of grey level square_level(i, j) on a
+// plane of grey 230 facing the camera at 1 m; corners[i][j]: each square's
+// four corner pixels.
+struct SquaresScene {
+  cv::Mat grey{480, 640, CV_8UC1, cv::Scalar(230)};
+  std::vector<std::vector<std::vector<cv::Point2f>>> corners{4, std::vector<std::vector<cv::Point2f>>(3)};
+
+  template <typename Level>
+  explicit SquaresScene(Level square_level) {
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        const cv::Rect square(80 + 130 * i, 70 + 130 * j, 60, 60);
+        grey(square).setTo(square_level(i, j));
+        for (const cv::Point& p : {square.tl(), cv::Point(square.br().x - 1, square.y),
+                                   square.br() - cv::Point(1, 1), cv::Point(square.x, square.br().y - 1)}) {
+          corners[i][j].emplace_back(p);
+        }
       }
     }
   }
-  const RgbdFrame frame(grey, cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)), syntheticIntrinsics());
+  RgbdFrame frame() const { return RgbdFrame(grey, cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)), syntheticIntrinsics()); }
+  std::vector<cv::Point2f> allCorners() const {
+    std::vector<cv::Point2f> all;
+    for (const auto& column : corners) {
+      for (const auto& square : column) all.insert(all.end(), square.begin(), square.end());
+    }
+    return all;
+  }
+};
+
+TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
+  // Black squares on white.
+  const SquaresScene scene([](int, int) { return 20; });
+  const std::vector<cv::Point2f> corners = scene.allCorners();
+  const RgbdFrame frame = scene.frame();
   const FrameGeometry g = computeGeometry(frame, GeometryParams());
   std::vector<cv::KeyPoint> keypoints;
   Detector().detect(frame, g, keypoints);
@@ -255,6 +275,36 @@ TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
   grey_only.tau = 1.0;
   Detector(grey_only).detect(frame, g, keypoints);
   EXPECT_TRUE(keypoints.empty());
+}
+
+// Why config/odometry.yaml drops the relative threshold: the frame's
+// strongest structure decides what the rest of it keeps. One black square
+// among eleven faint ones (contrast 8 grey levels, Harris ~ contrast^4): the
+// defaults' threshold, 0.001 of the largest response, keeps the black
+// square's corners alone; the budget-only rule keeps every corner.
+TEST(Detector, RelativeThresholdLetsTheStrongestStructureDecide) {
+  const SquaresScene scene([](int i, int j) { return i == 0 && j == 0 ? 20 : 222; });
+  const std::vector<cv::Point2f> strong = scene.corners[0][0], corners = scene.allCorners();
+  const std::vector<cv::Point2f> faint(corners.begin() + 4, corners.end());  // [0][0] comes first
+  const RgbdFrame frame = scene.frame();
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  const auto cornersFound = [](const std::vector<cv::KeyPoint>& found_keypoints, const std::vector<cv::Point2f>& targets) {
+    std::vector<cv::Point2f> found;
+    for (const cv::KeyPoint& k : found_keypoints) found.push_back(k.pt);
+    int n = 0;
+    for (const cv::Point2f& c : targets) n += distanceToNearest(c, found) <= 3.0;
+    return n;
+  };
+  std::vector<cv::KeyPoint> keypoints;
+  Detector().detect(frame, g, keypoints);
+  EXPECT_EQ(cornersFound(keypoints, strong), 4);
+  EXPECT_EQ(cornersFound(keypoints, faint), 0) << "the faint squares' corners pass the relative threshold";
+
+  const DetectorParams budget_only = RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml").detector;
+  Detector(budget_only).detect(frame, g, keypoints);
+  EXPECT_EQ(cornersFound(keypoints, strong), 4);
+  EXPECT_EQ(cornersFound(keypoints, faint), static_cast<int>(faint.size()));
+  for (const cv::KeyPoint& k : keypoints) EXPECT_LE(distanceToNearest(k.pt, corners), 3.0) << "keypoint off every corner";
 }
 
 TEST(Detector, CapsTheCountAndSpreadsOverTheGrid) {

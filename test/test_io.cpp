@@ -85,6 +85,15 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_EQ(paramsText(paper), paramsText(expected));
 }
 
+// config/odometry.yaml changes the detector's budget rule and nothing else.
+TEST(Params, OdometryYamlKeepsTheBestThousandAnywhere) {
+  RisasParams expected;
+  expected.detector.max_keypoints = 1000;
+  expected.detector.response_threshold = 0.0;
+  expected.detector.grid_cols = 1, expected.detector.grid_rows = 1;
+  EXPECT_EQ(paramsText(RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml")), paramsText(expected));
+}
+
 // The shipped config/risas.yaml is the library's defaults, field for field.
 TEST(ParamsFile, ShippedConfigEqualsTheDefaults) {
   EXPECT_EQ(paramsText(RisasParams::load(RISAS_SOURCE_DIR "/config/risas.yaml")), paramsText(RisasParams()));

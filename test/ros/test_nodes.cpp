@@ -2,6 +2,7 @@
 // starts the nodes and runs one suite of this executable (--gtest_filter):
 //   Pipeline  demo.launch: synthetic camera -> RisasNodelet (-> OdometryNodelet)
 //   Odometry  demo.launch: odom against the synthetic truth, reset, bad arrays
+//   OdometryPreset  demo.launch params:=config/odometry.yaml
 //   BadInput  risas_node alone; this test publishes good and bad frames
 //   Bag       bag.launch playing a bag written by risas_dataset_to_bag
 //   Transports risas_node, started here, asked for a lossy or missing transport
@@ -250,6 +251,27 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
 }
 
 // ---------------------------------------------------------------- Odometry --
+
+// ----------------------------------------------------------- OdometryPreset --
+
+// demo.launch params:=config/odometry.yaml: the fields the preset sets reach
+// the detector (more than the defaults' cap of 500 keypoints per frame),
+// the others keep their defaults, and the odometry runs on them.
+TEST(OdometryPreset, ThePresetsBudgetReachesTheDetector) {
+  ros::NodeHandle nh;
+  Recorder<risas::KeypointArray> keypoints(nh, "/risas/keypoints");
+  Recorder<nav_msgs::Odometry> odom(nh, "/odom");
+  ASSERT_TRUE(keypoints.waitForCount(3, 60.0)) << "no KeypointArrays on /risas/keypoints";
+  EXPECT_EQ(ros::param::param("/risas/detector/max_keypoints", 0), 1000);
+  EXPECT_EQ(ros::param::param("/risas/detector/response_threshold", -1.0), 0.0);
+  EXPECT_EQ(ros::param::param("/risas/detector/grid_cols", 0), 1);
+  for (const auto& array : keypoints.messages()) {
+    EXPECT_GT(array->keypoints.size(), static_cast<size_t>(risas::DetectorParams().max_keypoints));
+    EXPECT_LE(array->keypoints.size(), 1000u);
+    EXPECT_EQ(array->descriptor_dim, static_cast<uint32_t>(risas::DescriptorParams().dimension()));
+  }
+  ASSERT_TRUE(odom.waitForCount(3, 30.0)) << "no odometry on the preset's keypoints";
+}
 
 TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   ros::NodeHandle nh;
