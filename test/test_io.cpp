@@ -85,12 +85,13 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_EQ(paramsText(paper), paramsText(expected));
 }
 
-// config/odometry.yaml changes the detector's budget rule and nothing else.
+// config/odometry.yaml changes the detector's budget rule and scales, nothing else.
 TEST(Params, OdometryYamlKeepsTheBestThousandAnywhere) {
   RisasParams expected;
   expected.detector.max_keypoints = 1000;
   expected.detector.response_threshold = 0.0;
   expected.detector.grid_cols = 1, expected.detector.grid_rows = 1;
+  expected.detector.gray_sigma = 0.7, expected.detector.window_sigma = 1.0;
   EXPECT_EQ(paramsText(RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml")), paramsText(expected));
 }
 
