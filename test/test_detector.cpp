@@ -29,6 +29,16 @@ double distanceToNearest(const cv::Point2f& p, const std::vector<cv::Point2f>& t
   return best;
 }
 
+// How many of `targets` have a keypoint within `tolerance` pixels.
+int targetsFound(const std::vector<cv::Point2f>& targets, const std::vector<cv::KeyPoint>& keypoints,
+                 double tolerance = 3.0) {
+  std::vector<cv::Point2f> found;
+  for (const cv::KeyPoint& k : keypoints) found.push_back(k.pt);
+  int n = 0;
+  for (const cv::Point2f& t : targets) n += distanceToNearest(t, found) <= tolerance;
+  return n;
+}
+
 TEST(MainNormal, LabelsFollowThePapersExample) {
   const float c = static_cast<float>(1.0 / std::sqrt(3.0));
   // [54.7, 54.7, 54.7] degrees -> sector 2 of 4 (1-based), 1 0-based.
@@ -171,11 +181,7 @@ TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
   int on_corner = 0;
   for (const cv::KeyPoint& k : keypoints) on_corner += distanceToNearest(k.pt, corners) <= 3.0;
   EXPECT_EQ(on_corner, static_cast<int>(keypoints.size())) << "keypoints away from every corner";
-  std::vector<cv::Point2f> found;
-  for (const cv::KeyPoint& k : keypoints) found.push_back(k.pt);
-  int corners_found = 0;
-  for (const cv::Point2f& c : corners) corners_found += distanceToNearest(c, found) <= 3.0;
-  EXPECT_EQ(corners_found, static_cast<int>(corners.size()));
+  EXPECT_EQ(targetsFound(corners, keypoints), static_cast<int>(corners.size()));
 }
 
 // An untextured box on an untextured floor, unlit: the grey image is one
@@ -257,18 +263,14 @@ TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
   Detector().detect(frame, g, keypoints);
   const std::vector<cv::Point2f> corners = box.visibleCorners(render);
   ASSERT_GE(corners.size(), 5u);
-  std::vector<cv::Point2f> found;
-  for (const cv::KeyPoint& k : keypoints) found.push_back(k.pt);
   // A shape corner is blurred by the normal window (half-width 5 px) and the
   // dot-product smoothing (dp_sigma): its response peaks that far inside.
   // Where the top face meets the floor behind the box both are parallel and
   // equally bright in P, so not every visible corner is a corner in P.
   const DetectorParams defaults;
   const double tolerance = GeometryParams().normal_radius + 2.0 * defaults.dp_sigma + 1.0;
-  int corners_found = 0;
-  for (const cv::Point2f& c : corners) corners_found += distanceToNearest(c, found) <= tolerance;
-  EXPECT_GE(corners_found, 4) << corners.size() << " visible corners";
-  for (const cv::Point2f& k : found) EXPECT_LE(box.distanceToEdges(k), tolerance) << "keypoint off the box's creases";
+  EXPECT_GE(targetsFound(corners, keypoints, tolerance), 4) << corners.size() << " visible corners";
+  for (const cv::KeyPoint& k : keypoints) EXPECT_LE(box.distanceToEdges(k.pt), tolerance) << "keypoint off the box's creases";
 
   // With tau = 1 the detector sees the grey image alone, which is blank.
   DetectorParams grey_only;
@@ -288,22 +290,15 @@ TEST(Detector, RelativeThresholdLetsTheStrongestStructureDecide) {
   const std::vector<cv::Point2f> faint(corners.begin() + 4, corners.end());  // [0][0] comes first
   const RgbdFrame frame = scene.frame();
   const FrameGeometry g = computeGeometry(frame, GeometryParams());
-  const auto cornersFound = [](const std::vector<cv::KeyPoint>& found_keypoints, const std::vector<cv::Point2f>& targets) {
-    std::vector<cv::Point2f> found;
-    for (const cv::KeyPoint& k : found_keypoints) found.push_back(k.pt);
-    int n = 0;
-    for (const cv::Point2f& c : targets) n += distanceToNearest(c, found) <= 3.0;
-    return n;
-  };
   std::vector<cv::KeyPoint> keypoints;
   Detector().detect(frame, g, keypoints);
-  EXPECT_EQ(cornersFound(keypoints, strong), 4);
-  EXPECT_EQ(cornersFound(keypoints, faint), 0) << "the faint squares' corners pass the relative threshold";
+  EXPECT_EQ(targetsFound(strong, keypoints), 4);
+  EXPECT_EQ(targetsFound(faint, keypoints), 0) << "the faint squares' corners pass the relative threshold";
 
   const DetectorParams budget_only = RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml").detector;
   Detector(budget_only).detect(frame, g, keypoints);
-  EXPECT_EQ(cornersFound(keypoints, strong), 4);
-  EXPECT_EQ(cornersFound(keypoints, faint), static_cast<int>(faint.size()));
+  EXPECT_EQ(targetsFound(strong, keypoints), 4);
+  EXPECT_EQ(targetsFound(faint, keypoints), static_cast<int>(faint.size()));
   for (const cv::KeyPoint& k : keypoints) EXPECT_LE(distanceToNearest(k.pt, corners), 3.0) << "keypoint off every corner";
 }
 

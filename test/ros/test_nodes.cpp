@@ -250,8 +250,6 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
   ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", 8));
 }
 
-// ---------------------------------------------------------------- Odometry --
-
 // ----------------------------------------------------------- OdometryPreset --
 
 // demo.launch params:=config/odometry.yaml: the fields the preset sets reach
@@ -272,6 +270,8 @@ TEST(OdometryPreset, ThePresetsBudgetReachesTheDetector) {
   }
   ASSERT_TRUE(odom.waitForCount(3, 30.0)) << "no odometry on the preset's keypoints";
 }
+
+// ---------------------------------------------------------------- Odometry --
 
 TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   ros::NodeHandle nh;
