@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <numeric>
 
 namespace risas {
@@ -64,6 +65,40 @@ TEST(Ranking, LevelsAboveTheLastCountedOneStayInTheLastGroup) {
   const int empty[256] = {};
   rankGroupTable(empty, 256, 4, table);
   for (int v = 0; v < 256; ++v) EXPECT_EQ(table[v], 0);
+}
+
+TEST(Ranking, SoftRankPositionsSplitAVoteBetweenTheTwoNearestGroups) {
+  // 8 values, one per level 0..7, in 4 groups of 2: mid-ranks 0.5 .. 7.5,
+  // group centres at ranks 1, 3, 5 and 7. Level 2 (mid-rank 2.5) lies three
+  // quarters of the way from group 0's centre to group 1's.
+  int histogram[256] = {};
+  for (int v = 0; v < 8; ++v) histogram[v] = 1;
+  uint8_t lower[256];
+  float upper[256];
+  rankPositionTable(histogram, 256, 4, lower, upper);
+  EXPECT_EQ(lower[0], 0);  // below the first centre: all in group 0
+  EXPECT_FLOAT_EQ(upper[0], 0.0f);
+  EXPECT_EQ(lower[1], 0);  // mid-rank 1.5: a quarter of the way to group 1
+  EXPECT_FLOAT_EQ(upper[1], 0.25f);
+  EXPECT_EQ(lower[2], 0);  // mid-rank 2.5: three quarters
+  EXPECT_FLOAT_EQ(upper[2], 0.75f);
+  EXPECT_EQ(lower[3], 1);  // mid-rank 3.5: a quarter past group 1's centre
+  EXPECT_FLOAT_EQ(upper[3], 0.25f);
+  EXPECT_EQ(lower[7], 3);  // past the last centre: all in group 3
+  EXPECT_FLOAT_EQ(upper[7], 0.0f);
+  for (int v = 8; v < 256; ++v) EXPECT_EQ(lower[v], 3) << v;  // above every value: the last group
+  // Ties share one position, their run's middle: 4 values at level 10 and 4
+  // at level 20 in 2 groups sit at the two centres.
+  int ties[256] = {};
+  ties[10] = 4, ties[20] = 4;
+  rankPositionTable(ties, 256, 2, lower, upper);
+  EXPECT_EQ(lower[10], 0);
+  EXPECT_FLOAT_EQ(upper[10], 0.0f);
+  EXPECT_EQ(lower[20], 1);
+  EXPECT_FLOAT_EQ(upper[20], 0.0f);
+  const int empty[256] = {};
+  rankPositionTable(empty, 256, 4, lower, upper);
+  for (int v = 0; v < 256; ++v) EXPECT_EQ(lower[v], 0);
 }
 
 TEST(Neighbourhood, KeepsTheForegroundOfTheDiscAndItsMoments) {
@@ -223,30 +258,85 @@ TEST(Descriptor, EncodingIsThePapersHistogramOnEveryPath) {
   // reaching past the image's edge.
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   const FrameGeometry g = computeGeometry(frame, GeometryParams());
-  const DescriptorParams params;
-  const PatchEncoder encoder(params);
   std::vector<cv::KeyPoint> keypoints;
   Detector().detect(frame, g, keypoints);
   ASSERT_GE(keypoints.size(), 20u);
   keypoints.resize(20);
   keypoints.emplace_back(cv::Point2f(4.0f, 240.0f), 7.0f);  // the disc crosses the left edge
-  int compared = 0;
-  for (size_t i = 0; i < keypoints.size(); ++i) {
-    const auto nb = selectNeighbourhood(frame, g, keypoints[i].pt, 30.0f, params.background_distance);
-    if (!nb) continue;
-    const float radius = 8.0f + 2.0f * static_cast<float>(i);
-    const double theta = 0.37 * static_cast<double>(i) - 2.0;
-    std::vector<float> fast(static_cast<size_t>(encoder.dimension())), readable(fast.size());
-    const bool fast_ok = encoder.encode(frame, g, *nb, radius, theta, fast.data());
-    cv::setUseOptimized(false);
-    const bool readable_ok = encoder.encode(frame, g, *nb, radius, theta, readable.data());
-    cv::setUseOptimized(true);
-    ASSERT_EQ(fast_ok, readable_ok) << i;
-    if (!fast_ok) continue;
-    ++compared;
-    for (size_t d = 0; d < fast.size(); ++d) ASSERT_NEAR(fast[d], readable[d], 1e-6f) << i << ": bin " << d;
+  for (const bool soft_binning : {false, true}) {
+    SCOPED_TRACE(soft_binning ? "soft binning" : "one vote per sample");
+    DescriptorParams params;
+    params.soft_binning = soft_binning;
+    const PatchEncoder encoder(params);
+    int compared = 0;
+    for (size_t i = 0; i < keypoints.size(); ++i) {
+      const auto nb = selectNeighbourhood(frame, g, keypoints[i].pt, 30.0f, params.background_distance);
+      if (!nb) continue;
+      const float radius = 8.0f + 2.0f * static_cast<float>(i);
+      const double theta = 0.37 * static_cast<double>(i) - 2.0;
+      std::vector<float> fast(static_cast<size_t>(encoder.dimension())), readable(fast.size());
+      const bool fast_ok = encoder.encode(frame, g, *nb, radius, theta, fast.data());
+      cv::setUseOptimized(false);
+      const bool readable_ok = encoder.encode(frame, g, *nb, radius, theta, readable.data());
+      cv::setUseOptimized(true);
+      ASSERT_EQ(fast_ok, readable_ok) << i;
+      if (!fast_ok) continue;
+      ++compared;
+      for (size_t d = 0; d < fast.size(); ++d) ASSERT_NEAR(fast[d], readable[d], 1e-6f) << i << ": bin " << d;
+    }
+    EXPECT_GE(compared, 12);
   }
-  EXPECT_GE(compared, 12);
+}
+
+// Why descriptor.soft_binning is the default: described 1.5 px off, in a
+// frame with sensor noise (grey sigma 2), a keypoint's descriptor passes the
+// ratio test against its own undisturbed descriptor more often when samples
+// split their votes between rank groups; with one vote per sample, samples
+// near a group boundary move whole votes.
+double shareMatchedToItself(const RisasParams& params, const RgbdFrame& frame, const RgbdFrame& disturbed,
+                            cv::Point2f shift) {
+  const Risas risas(params);
+  std::vector<cv::KeyPoint> reference;
+  risas.detect(frame, reference);
+  for (size_t i = 0; i < reference.size(); ++i) reference[i].class_id = static_cast<int>(i);
+  std::vector<cv::KeyPoint> moved = reference;
+  for (cv::KeyPoint& k : moved) k.pt += shift;
+  cv::Mat reference_descriptors, moved_descriptors;
+  risas.compute(frame, reference, reference_descriptors);
+  risas.compute(disturbed, moved, moved_descriptors);
+  std::vector<int> row_of(moved.size() + reference.size() + 1, -1);
+  for (size_t r = 0; r < reference.size(); ++r) row_of[static_cast<size_t>(reference[r].class_id)] = static_cast<int>(r);
+  int compared = 0, matched = 0;
+  for (int m = 0; m < moved_descriptors.rows; ++m) {
+    const int own = row_of[static_cast<size_t>(moved[static_cast<size_t>(m)].class_id)];
+    if (own < 0) continue;
+    double nearest_other = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < reference_descriptors.rows; ++r) {
+      if (r != own) nearest_other = std::min(nearest_other, cv::norm(moved_descriptors.row(m), reference_descriptors.row(r)));
+    }
+    ++compared;
+    matched += cv::norm(moved_descriptors.row(m), reference_descriptors.row(own)) < 0.8 * nearest_other;
+  }
+  EXPECT_GT(compared, 100);
+  return compared ? static_cast<double>(matched) / compared : 0.0;
+}
+
+TEST(Descriptor, SoftBinningKeepsAShiftedNoisyKeypointNearestItself) {
+  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
+  cv::Mat noise(frame.size(), CV_32F), grey;
+  cv::RNG(7).fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+  frame.gray().convertTo(grey, CV_32F);
+  grey += noise;
+  grey.convertTo(grey, CV_8U);
+  const RgbdFrame noisy(grey, frame.depth(), frame.intrinsics());
+  RisasParams hard, soft;
+  hard.descriptor.soft_binning = false;
+  soft.descriptor.soft_binning = true;
+  for (const cv::Point2f shift : {cv::Point2f(1.5f, 0.0f), cv::Point2f(-1.0f, 1.0f)}) {
+    const double hard_share = shareMatchedToItself(hard, frame, noisy, shift);
+    const double soft_share = shareMatchedToItself(soft, frame, noisy, shift);
+    EXPECT_GT(soft_share, hard_share + 0.1) << "shift " << shift;
+  }
 }
 
 TEST(Descriptor, IsDeterministicAndReentrant) {

@@ -76,12 +76,14 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_TRUE(paper.descriptor.shape_orientation);  // eq. 7
   EXPECT_EQ(paper.descriptor.patch_radius, 20);
   EXPECT_EQ(paper.geometry.normal_stride, 1);
+  EXPECT_FALSE(paper.descriptor.soft_binning);  // one vote per sample
   RisasParams expected;  // the defaults with those fields changed, and no other
   expected.geometry.normal_stride = 1;
   expected.detector.gray_sigma = 0.7, expected.detector.dp_sigma = 5.0, expected.detector.window_sigma = 1.0;
   expected.detector.nms_radius = 1;
   expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
   expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;
+  expected.descriptor.soft_binning = false;
   EXPECT_EQ(paramsText(paper), paramsText(expected));
 }
 

@@ -82,6 +82,13 @@ struct DescriptorParams {
   // spatial label is (ring, sector) and the descriptor n_ring times longer.
   // 1: the paper's sectors only.
   int n_ring = 1;
+  // How a sample votes. true: its vote split between the two intensity-rank
+  // groups whose centres its mid-rank lies between, as SIFT's histogram
+  // interpolates, so that a grey level's noise or a sub-pixel shift of the
+  // keypoint moves the descriptor a little rather than moving whole votes.
+  // false: one vote in its group, the paper's histogram. docs/method.md
+  // (descriptor step 5, "Encoding") says what it buys.
+  bool soft_binning = true;
   // rho-bar: normal dot products rho >= rho_threshold form one label.
   double rho_threshold = 0.9;
   // Patch radius before the ellipse fit. 0: the paper's eq. 3-4, in pixels,

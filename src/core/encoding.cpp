@@ -101,12 +101,31 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
   rankGroups(greys, 256, params_.n_bin, intensity_label);
   rankGroups(shapes, kRhoLevels, params_.n_vec, shape_rank);
 
+  // Soft binning's rank groups: each grey level's two nearest groups by its
+  // mid-rank, and the upper one's weight.
+  uint8_t lower_group[256] = {};
+  float upper_group_weight[256] = {};
+  if (params_.soft_binning) {
+    std::vector<int> grey_count(256, 0);
+    for (const SampleLevels& c : counted) ++grey_count[static_cast<size_t>(c.grey)];
+    rankPositionTable(grey_count.data(), 256, params_.n_bin, lower_group, upper_group_weight);
+  }
+
   std::vector<float> histogram(static_cast<size_t>(dimension()), 0.0f);
   const int n_shape = params_.n_vec + 1;
+  const auto vote = [&](int sector, int group, int shape_label, float weight) {
+    histogram[static_cast<size_t>((sector * params_.n_bin + group) * n_shape + shape_label)] += weight;
+  };
   size_t ranked = 0;
   for (size_t c = 0; c < counted.size(); ++c) {
     const int shape_label = counted[c].shape == kFlat ? params_.n_vec : shape_rank[ranked++];
-    histogram[static_cast<size_t>((counted[c].sector * params_.n_bin + intensity_label[c]) * n_shape + shape_label)] += 1.0f;
+    if (!params_.soft_binning) {
+      vote(counted[c].sector, intensity_label[c], shape_label, 1.0f);
+      continue;
+    }
+    const int g = counted[c].grey, lower = lower_group[g], upper = std::min(lower + 1, params_.n_bin - 1);
+    vote(counted[c].sector, lower, shape_label, 1.0f - upper_group_weight[g]);
+    vote(counted[c].sector, upper, shape_label, upper_group_weight[g]);
   }
   const double norm = cv::norm(histogram);
   for (int i = 0; i < dimension(); ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)] / norm);

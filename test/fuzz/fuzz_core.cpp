@@ -123,6 +123,7 @@ risas::RisasParams params(Bytes& in) {
   p.descriptor.rho_threshold = in.number(0.0, 1.0);
   p.descriptor.support_radius = in.number(0.0, 0.2);
   p.descriptor.shape_orientation = in.byte() % 2;
+  p.descriptor.soft_binning = in.byte() % 2;
   p.geometry.normal_stride = in.in(1, 4);
   p.geometry.normal_radius = in.in(1, 8);
   return p;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace risas {
 
@@ -41,9 +42,11 @@ struct DiscSamples {
 
 DiscSamples& discSamples() { return Workspace::ofThisThread().get<DiscSamples>(); }
 
-// The histogram of one patch (PatchEncoder::encode).
+// The histogram of one patch (PatchEncoder::encode): counts, or soft
+// binning's weighted votes.
 struct Histogram {
   std::vector<int> counts;
+  std::vector<float> votes;
 };
 
 // The disc's offsets (di, dj) in units of its radius, rotated by theta
@@ -157,6 +160,16 @@ void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
   }
 }
 
+// bins[0] += a, bins[1] += b, as one two-float addition where the compiler
+// has vectors.
+inline void addPair(float* bins, float a, float b) {
+  typedef float Pair __attribute__((vector_size(8)));
+  Pair pair;
+  std::memcpy(&pair, bins, sizeof pair);
+  pair += Pair{a, b};
+  std::memcpy(bins, &pair, sizeof pair);
+}
+
 }  // namespace
 
 bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const Neighbourhood& nb, float radius_px,
@@ -192,19 +205,51 @@ bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const
   // Rank groups by counting sort: a sample's group depends only on its
   // level, so each level's group is tabulated once.
   uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
-  rankGroupTable(intensity_count, 256, params.n_bin, intensity_label);
+  if (!params.soft_binning) rankGroupTable(intensity_count, 256, params.n_bin, intensity_label);
   rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
   shape_label[kRhoLevels] = static_cast<uint8_t>(params.n_vec);
 
   const int n_bin = params.n_bin, n_shape = params.n_vec + 1;
-  std::vector<int>& histogram = Workspace::ofThisThread().get<Histogram>().counts;
-  histogram.assign(static_cast<size_t>(dimension), 0);
-  for (int s = 0; s < n; ++s) {
-    const int bin = (disc.sector[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
-                    shape_label[d.rho_level[s]];
-    histogram[static_cast<size_t>(bin)] += d.counts[s];
+  Histogram& h = Workspace::ofThisThread().get<Histogram>();
+  if (params.soft_binning) {
+    // The readable encoding's two votes per counted sample. Here the bins
+    // are laid out [sector][shape][group] (one spare bin at the end), so that
+    // a sample's two rank groups are neighbours and take one two-float
+    // addition. In the last group the upper weight is 0 and its addition,
+    // into the next shape's first bin or the spare one, changes nothing.
+    // Reordered into the readable layout at the end.
+    uint8_t lower_group[256];
+    float upper_group_weight[256];
+    rankPositionTable(intensity_count, 256, n_bin, lower_group, upper_group_weight);
+    const int sector_step = n_shape * n_bin, sectors = dimension / sector_step;
+    std::vector<float>& votes = h.votes;
+    votes.assign(static_cast<size_t>(dimension) + 1, 0.0f);
+    for (int s = 0; s < n; ++s) {
+      if (!d.counts[s]) continue;
+      const int level = d.level[s];
+      const float wg = upper_group_weight[level];
+      const int bin = disc.sector[static_cast<size_t>(s)] * sector_step + shape_label[d.rho_level[s]] * n_bin +
+                      lower_group[level];
+      addPair(votes.data() + bin, 1.0f - wg, wg);
+    }
+    for (int sector = 0; sector < sectors; ++sector) {
+      for (int group = 0; group < n_bin; ++group) {
+        for (int shape = 0; shape < n_shape; ++shape) {
+          const size_t from = static_cast<size_t>(sector * sector_step + shape * n_bin + group);
+          out[(sector * n_bin + group) * n_shape + shape] = votes[from];
+        }
+      }
+    }
+  } else {
+    std::vector<int>& histogram = h.counts;
+    histogram.assign(static_cast<size_t>(dimension), 0);
+    for (int s = 0; s < n; ++s) {
+      const int bin = (disc.sector[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
+                      shape_label[d.rho_level[s]];
+      histogram[static_cast<size_t>(bin)] += d.counts[s];
+    }
+    for (int i = 0; i < dimension; ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
   }
-  for (int i = 0; i < dimension; ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
   float norm = 0.0f;
   for (int d = 0; d < dimension; ++d) norm += out[d] * out[d];
   const float inv = 1.0f / std::sqrt(norm);

@@ -26,7 +26,9 @@ class PatchEncoder {
   //   intensity label: its rank group among the patch's intensities, n_bin groups;
   //   shape label:     rho = |n_k . n_i| (eq. 8); rho >= rho_threshold is one
   //                    label, the rest fall into n_vec rank groups.
-  // The histogram is L2-normalised into `out` (dimension() floats). False
+  // With soft_binning a sample's vote is split between its two nearest rank
+  // groups by its mid-rank (rankPositionTable); sector and shape label stay
+  // one each. The histogram is L2-normalised into `out` (dimension() floats). False
   // when fewer than min_valid_fraction of the samples count.
   bool encode(const RgbdFrame& frame, const FrameGeometry& geometry, const Neighbourhood& neighbourhood,
               float radius_px, double theta, float* out) const;

@@ -15,6 +15,16 @@ namespace risas {
 // histogram and table hold `levels` entries; groups in [1, 256].
 void rankGroupTable(const int* histogram, int levels, int groups, uint8_t* table);
 
+// Soft rank groups, for descriptor.soft_binning: each level's mid-rank
+// (below[v] + histogram[v] / 2) as a position among the group centres,
+// position = mid-rank * groups / count - 1/2. A value of level v votes
+// 1 - upper_weight[v] for group lower[v] and upper_weight[v] for group
+// lower[v] + 1, so a value that moves across a group boundary moves its vote
+// gradually instead of all at once. Below the first centre and above the last
+// the whole vote stays in the end group (upper_weight 0); lower[v] + 1 is a
+// group whenever upper_weight[v] > 0. An empty histogram gives group 0.
+void rankPositionTable(const int* histogram, int levels, int groups, uint8_t* lower, float* upper_weight);
+
 // Ranks cut into `groups` groups of equal size: group = rank * groups / count.
 // Values must lie in [0, levels). Ties share the lower group
 // (docs/method.md says why).
