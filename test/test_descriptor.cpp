@@ -298,13 +298,14 @@ double shareMatchedToItself(const RisasParams& params, const RgbdFrame& frame, c
   const Risas risas(params);
   std::vector<cv::KeyPoint> reference;
   risas.detect(frame, reference);
-  for (size_t i = 0; i < reference.size(); ++i) reference[i].class_id = static_cast<int>(i);
+  const size_t detected = reference.size();
+  for (size_t i = 0; i < detected; ++i) reference[i].class_id = static_cast<int>(i);
   std::vector<cv::KeyPoint> moved = reference;
   for (cv::KeyPoint& k : moved) k.pt += shift;
   cv::Mat reference_descriptors, moved_descriptors;
   risas.compute(frame, reference, reference_descriptors);
   risas.compute(disturbed, moved, moved_descriptors);
-  std::vector<int> row_of(moved.size() + reference.size() + 1, -1);
+  std::vector<int> row_of(detected, -1);  // by class_id: the index before compute dropped any
   for (size_t r = 0; r < reference.size(); ++r) row_of[static_cast<size_t>(reference[r].class_id)] = static_cast<int>(r);
   int compared = 0, matched = 0;
   for (int m = 0; m < moved_descriptors.rows; ++m) {

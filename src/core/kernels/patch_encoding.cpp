@@ -170,6 +170,56 @@ inline void addPair(float* bins, float a, float b) {
   std::memcpy(bins, &pair, sizeof pair);
 }
 
+// The paper's histogram: each counted sample one vote in its (sector, rank
+// group, shape label) bin, added without a branch (a sample adds its count,
+// 0 or 1). Into out, dimension floats, not normalised.
+void countHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sector, const int* intensity_count,
+                    const uint8_t* shape_label, int n_bin, int n_shape, int dimension, float* out) {
+  uint8_t intensity_label[256];  // each level's group, tabulated once (counting sort)
+  rankGroupTable(intensity_count, 256, n_bin, intensity_label);
+  std::vector<int>& histogram = Workspace::ofThisThread().get<Histogram>().counts;
+  histogram.assign(static_cast<size_t>(dimension), 0);
+  for (int s = 0; s < n; ++s) {
+    const int bin = (sector[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
+                    shape_label[d.rho_level[s]];
+    histogram[static_cast<size_t>(bin)] += d.counts[s];
+  }
+  for (int i = 0; i < dimension; ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
+}
+
+// soft_binning's histogram: the readable encoding's two votes per counted
+// sample, between the rank groups rankPositionTable gives its grey level.
+// Here the bins are laid out [sector][shape][group] (one spare bin at the
+// end), so that a sample's two groups are neighbours and take one two-float
+// addition. In the last group the upper weight is 0 and its addition, into
+// the next shape's first bin or the spare one, changes nothing. Reordered
+// into the readable layout in out, dimension floats, not normalised.
+void softHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sector, const int* intensity_count,
+                   const uint8_t* shape_label, int n_bin, int n_shape, int dimension, float* out) {
+  uint8_t lower_group[256];
+  float upper_group_weight[256];
+  rankPositionTable(intensity_count, 256, n_bin, lower_group, upper_group_weight);
+  const int sector_step = n_shape * n_bin, sectors = dimension / sector_step;
+  std::vector<float>& votes = Workspace::ofThisThread().get<Histogram>().votes;
+  votes.assign(static_cast<size_t>(dimension) + 1, 0.0f);
+  for (int s = 0; s < n; ++s) {
+    if (!d.counts[s]) continue;
+    const int level = d.level[s];
+    const float wg = upper_group_weight[level];
+    const int bin =
+        sector[static_cast<size_t>(s)] * sector_step + shape_label[d.rho_level[s]] * n_bin + lower_group[level];
+    addPair(votes.data() + bin, 1.0f - wg, wg);
+  }
+  for (int sec = 0; sec < sectors; ++sec) {
+    for (int group = 0; group < n_bin; ++group) {
+      for (int shape = 0; shape < n_shape; ++shape) {
+        out[(sec * n_bin + group) * n_shape + shape] =
+            votes[static_cast<size_t>(sec * sector_step + shape * n_bin + group)];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const Neighbourhood& nb, float radius_px,
@@ -203,52 +253,17 @@ bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const
   if (counted < params.min_valid_fraction * n || counted < 3) return false;
 
   // Rank groups by counting sort: a sample's group depends only on its
-  // level, so each level's group is tabulated once.
-  uint8_t intensity_label[256], shape_label[kRhoLevels + 1];
-  if (!params.soft_binning) rankGroupTable(intensity_count, 256, params.n_bin, intensity_label);
+  // level, so each level's group is tabulated once (the grey levels' in the
+  // histogram functions).
+  uint8_t shape_label[kRhoLevels + 1];
   rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
   shape_label[kRhoLevels] = static_cast<uint8_t>(params.n_vec);
 
-  const int n_bin = params.n_bin, n_shape = params.n_vec + 1;
-  Histogram& h = Workspace::ofThisThread().get<Histogram>();
+  const int n_shape = params.n_vec + 1;
   if (params.soft_binning) {
-    // The readable encoding's two votes per counted sample. Here the bins
-    // are laid out [sector][shape][group] (one spare bin at the end), so that
-    // a sample's two rank groups are neighbours and take one two-float
-    // addition. In the last group the upper weight is 0 and its addition,
-    // into the next shape's first bin or the spare one, changes nothing.
-    // Reordered into the readable layout at the end.
-    uint8_t lower_group[256];
-    float upper_group_weight[256];
-    rankPositionTable(intensity_count, 256, n_bin, lower_group, upper_group_weight);
-    const int sector_step = n_shape * n_bin, sectors = dimension / sector_step;
-    std::vector<float>& votes = h.votes;
-    votes.assign(static_cast<size_t>(dimension) + 1, 0.0f);
-    for (int s = 0; s < n; ++s) {
-      if (!d.counts[s]) continue;
-      const int level = d.level[s];
-      const float wg = upper_group_weight[level];
-      const int bin = disc.sector[static_cast<size_t>(s)] * sector_step + shape_label[d.rho_level[s]] * n_bin +
-                      lower_group[level];
-      addPair(votes.data() + bin, 1.0f - wg, wg);
-    }
-    for (int sector = 0; sector < sectors; ++sector) {
-      for (int group = 0; group < n_bin; ++group) {
-        for (int shape = 0; shape < n_shape; ++shape) {
-          const size_t from = static_cast<size_t>(sector * sector_step + shape * n_bin + group);
-          out[(sector * n_bin + group) * n_shape + shape] = votes[from];
-        }
-      }
-    }
+    softHistogram(d, n, disc.sector, intensity_count, shape_label, params.n_bin, n_shape, dimension, out);
   } else {
-    std::vector<int>& histogram = h.counts;
-    histogram.assign(static_cast<size_t>(dimension), 0);
-    for (int s = 0; s < n; ++s) {
-      const int bin = (disc.sector[static_cast<size_t>(s)] * n_bin + intensity_label[d.level[s]]) * n_shape +
-                      shape_label[d.rho_level[s]];
-      histogram[static_cast<size_t>(bin)] += d.counts[s];
-    }
-    for (int i = 0; i < dimension; ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)]);
+    countHistogram(d, n, disc.sector, intensity_count, shape_label, params.n_bin, n_shape, dimension, out);
   }
   float norm = 0.0f;
   for (int d = 0; d < dimension; ++d) norm += out[d] * out[d];
