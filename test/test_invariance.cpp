@@ -83,5 +83,35 @@ TEST_F(InvarianceTest, ScaleChangeFromMovingTheCameraBack) {
   }
 }
 
+// Near the camera a patch's samples lie several pixels apart (3 px at
+// 0.6 m): read from the raw grey image they alias the surface's fine
+// texture, and what they see depends on where the sample grid falls. Read
+// from the pyramid level blurred in proportion to their spacing
+// (descriptor.sample_blur) they see the same smoothed pattern at both
+// distances. The detector is the same, so both see the same counterparts.
+TEST_F(InvarianceTest, SamplesReadAtTheirOwnScaleMatchAcrossAScaleChange) {
+  RisasParams raw_params;
+  raw_params.descriptor.sample_blur = 0.0;
+  const Risas raw(raw_params);
+  CorrespondenceScore blurred_total, raw_total;
+  for (double near_distance : {0.6, 0.8, 1.2}) {
+    for (double factor : {1.4, 2.0}) {
+      const Eigen::Isometry3d near = test::demoCamera(near_distance), far = test::demoCamera(near_distance * factor);
+      const CorrespondenceScore s = score(near, far);
+      const Features a = raw.extract(test::renderFrame(scene(), near));
+      const Features b = raw.extract(test::renderFrame(scene(), far));
+      const CorrespondenceScore r = test::scoreCorrespondences(a, b, near.inverse() * far);
+      std::cout << near_distance << " m, distance x" << factor << ": " << s.matched << " / " << s.counterparts
+                << " (raw grey: " << r.matched << " / " << r.counterparts << ")\n";
+      EXPECT_EQ(s.counterparts, r.counterparts);
+      blurred_total.matched += s.matched, blurred_total.counterparts += s.counterparts;
+      raw_total.matched += r.matched, raw_total.counterparts += r.counterparts;
+    }
+  }
+  // Measured 524 against 499 of 929 counterparts: ahead at five of the six
+  // settings, 1 behind at 1.2 m x2.
+  EXPECT_GT(blurred_total.matched, raw_total.matched + 10);
+}
+
 }  // namespace
 }  // namespace risas

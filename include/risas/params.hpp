@@ -89,6 +89,15 @@ struct DescriptorParams {
   // false: one vote in its group, the paper's histogram. docs/method.md
   // (descriptor step 5, "Encoding") says what it buys.
   bool soft_binning = true;
+  // How smooth a grey image the disc's samples read, as a Gaussian's sigma in
+  // units of their spacing (R-bar / patch_radius pixels). A patch is sampled
+  // on the same grid at every size, so at 0.5 m its samples lie 3 px apart
+  // and bilinear reads of the raw image alias the surface's fine texture:
+  // what they see then depends on where the grid falls. > 0: each patch reads
+  // the grey pyramid level (trilinear) whose blur is this many spacings,
+  // so every distance sees the pattern smoothed alike. 0: the frame's grey
+  // image, the paper's sampling. docs/method.md (descriptor step 5).
+  double sample_blur = 0.5;
   // rho-bar: normal dot products rho >= rho_threshold form one label.
   double rho_threshold = 0.9;
   // Patch radius before the ellipse fit. 0: the paper's eq. 3-4, in pixels,

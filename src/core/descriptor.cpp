@@ -3,6 +3,7 @@
 #include "risas/errors.hpp"
 #include "risas/neighbourhood.hpp"
 #include "risas/orientation.hpp"
+#include "risas/workspace.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,12 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
   // s_min and s_max of eq. 4 need the frame's depth range; the metric radius does not.
   const ScaleRange scales = params_.support_radius > 0.0 ? ScaleRange() : frameScaleRange(frame.depth());
   const float max_radius = std::hypot(static_cast<float>(frame.size().width), static_cast<float>(frame.size().height));
+  // The grey image's coarser levels (sample_blur), in buffers kept from
+  // frame to frame; the workspace keeps no header of the frame's own image.
+  GreyPyramid& buffers = Workspace::ofThisThread().get<GreyPyramid>();
+  buildGreyPyramid(frame.gray(), pyramidLevelsNeeded(params_), buffers);
+  const GreyPyramid grey = buffers;
+  buffers.level[0].release();
   const int n = static_cast<int>(keypoints.size());
   cv::Mat rows(n, descriptorSize(), CV_32F);
   std::vector<char> described(static_cast<size_t>(n), 0);
@@ -36,7 +43,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       const Orientation orientation = dominantOrientation(*nb, K, params_);
       if (orientation.source == OrientationSource::Rejected) continue;
       const float radius = ellipseRadius(*nb, K, params_.min_radius_px, params_.max_radius_px);
-      if (!encoder_.encode(frame, geometry, *nb, radius, orientation.theta, rows.ptr<float>(i))) continue;
+      if (!encoder_.encode(grey, geometry, *nb, radius, orientation.theta, rows.ptr<float>(i))) continue;
 
       double degrees = orientation.theta * 180.0 / CV_PI;
       if (degrees < 0.0) degrees += 360.0;

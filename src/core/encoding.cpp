@@ -10,6 +10,7 @@
 #include "kernels/patch_encoding.hpp"
 
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,53 @@
 #include <vector>
 
 namespace risas {
+
+void buildGreyPyramid(const cv::Mat& gray, int levels, GreyPyramid& pyramid) {
+  CV_Assert(gray.type() == CV_8UC1 && levels >= 1);
+  pyramid.level[0] = gray;
+  pyramid.levels = 1;
+  while (pyramid.levels < std::min(levels, GreyPyramid::kMaxLevels)) {
+    const cv::Mat& finer = pyramid.level[pyramid.levels - 1];
+    if (finer.cols < 4 || finer.rows < 4) break;  // the next would be under 2 x 2
+    cv::pyrDown(finer, pyramid.level[pyramid.levels]);
+    ++pyramid.levels;
+  }
+}
+
+float sampleLevel(float radius_px, const DescriptorParams& params, int levels) {
+  const double sigma = params.sample_blur * radius_px / params.patch_radius;
+  const double lambda = 0.5 * std::log2(1.0 + 3.0 * sigma * sigma);
+  return static_cast<float>(std::min<double>(lambda, levels - 1));
+}
+
+int pyramidLevelsNeeded(const DescriptorParams& params) {
+  const float lambda = sampleLevel(static_cast<float>(params.max_radius_px), params, GreyPyramid::kMaxLevels);
+  return static_cast<int>(std::ceil(lambda)) + 1;
+}
+
+namespace {
+
+// Bilinear on one level, at a point of that level clamped into it.
+float bilinear(const cv::Mat& level, float x, float y) {
+  const float xc = std::clamp(x, 0.0f, static_cast<float>(level.cols - 1));
+  const float yc = std::clamp(y, 0.0f, static_cast<float>(level.rows - 1));
+  const int u0 = std::min(static_cast<int>(xc), level.cols - 2), v0 = std::min(static_cast<int>(yc), level.rows - 2);
+  const float a = xc - static_cast<float>(u0), b = yc - static_cast<float>(v0);
+  const auto g = [&](int dv, int du) { return static_cast<float>(level.at<uchar>(v0 + dv, u0 + du)); };
+  return (1.0f - b) * ((1.0f - a) * g(0, 0) + a * g(0, 1)) + b * ((1.0f - a) * g(1, 0) + a * g(1, 1));
+}
+
+}  // namespace
+
+float greyAt(const GreyPyramid& pyramid, float lambda, float x, float y) {
+  const int l = static_cast<int>(lambda);
+  const float f = lambda - static_cast<float>(l);
+  const float scale = std::ldexp(1.0f, -l);  // a power of two: exact
+  const float finer = bilinear(pyramid.level[l], x * scale, y * scale);
+  if (f == 0.0f) return finer;
+  const float coarser = bilinear(pyramid.level[l + 1], x * scale * 0.5f, y * scale * 0.5f);
+  return (1.0f - f) * finer + f * coarser;
+}
 
 PatchEncoder::PatchEncoder(const DescriptorParams& params) : params_(params) {
   params_.validate();
@@ -48,14 +96,15 @@ constexpr int kRhoLevels = 256, kFlat = kRhoLevels;
 
 }  // namespace
 
-bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry, const Neighbourhood& nb,
+bool PatchEncoder::encode(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& nb,
                           float radius_px, double theta, float* out) const {
+  const float lambda = sampleLevel(radius_px, params_, grey.levels);
   if (cv::useOptimized()) {
-    return encodePatchKernel(frame.gray(), geometry, nb, radius_px, theta, {disc_i_, disc_j_, disc_sector_}, params_,
+    return encodePatchKernel(grey, lambda, geometry, nb, radius_px, theta, {disc_i_, disc_j_, disc_sector_}, params_,
                              out);
   }
   // The readable encoding, as the paper builds the histogram (III-B-3).
-  const cv::Mat& gray = frame.gray();
+  const cv::Mat& gray = grey.level[0];
   const float cos_t = static_cast<float>(std::cos(theta)) * radius_px;
   const float sin_t = static_cast<float>(std::sin(theta)) * radius_px;
   const float t2 = static_cast<float>(params_.background_distance * params_.background_distance);
@@ -75,16 +124,13 @@ bool PatchEncoder::encode(const RgbdFrame& frame, const FrameGeometry& geometry,
     if (!geometry.hasNormal(v, u)) continue;
     const cv::Vec3f p = geometry.point(v, u) - k;
     if (!(p.dot(p) < t2)) continue;
-    // Grey level: bilinear, rounded.
-    const int u0 = std::min(static_cast<int>(x), gray.cols - 2), v0 = std::min(static_cast<int>(y), gray.rows - 2);
-    const float a = x - static_cast<float>(u0), b = y - static_cast<float>(v0);
-    const auto g = [&](int dv, int du) { return static_cast<float>(gray.at<uchar>(v0 + dv, u0 + du)); };
-    const float grey = (1.0f - b) * ((1.0f - a) * g(0, 0) + a * g(0, 1)) + b * ((1.0f - a) * g(1, 0) + a * g(1, 1));
+    // Grey level: read at the patch's pyramid level, rounded.
+    const float intensity = greyAt(grey, lambda, x, y);
     // Shape: rho = |n_k . n_i| (eq. 8); the flat majority at or above rho-bar
     // is one level, the rest are ranked on rho / rho-bar.
     const float rho = std::abs(n_k.dot(geometry.normal(v, u)));
     const int shape = rho >= rho_bar ? kFlat : std::min(static_cast<int>(rho / rho_bar * kRhoLevels), kRhoLevels - 1);
-    counted.push_back({disc_sector_[s], static_cast<int>(grey + 0.5f), shape});
+    counted.push_back({disc_sector_[s], static_cast<int>(intensity + 0.5f), shape});
   }
   const int n = static_cast<int>(disc_i_.size());
   if (counted.size() < params_.min_valid_fraction * n || counted.size() < 3) return false;

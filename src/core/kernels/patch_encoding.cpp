@@ -19,23 +19,37 @@ namespace risas {
 
 namespace {
 
+// One pyramid level's reads for each sample (greyAt): the bilinear cell's
+// corner in the level, the point's place in the cell, the cell's grey
+// values, bytes 0 to 3: (u0, v0), (u0 + 1, v0), (u0, v0 + 1) and
+// (u0 + 1, v0 + 1), and the bilinear value.
+struct LevelReads {
+  std::vector<int> u0, v0;
+  std::vector<float> a, b, grey;
+  std::vector<uint32_t> cell;
+  void resize(size_t n) {
+    for (auto* v : {&u0, &v0}) v->resize(n);
+    for (auto* v : {&a, &b, &grey}) v->resize(n);
+    cell.resize(n);
+  }
+};
+
 // One keypoint's samples, an array per quantity, so that the loops over the
 // samples vectorise. One set per thread, reused from keypoint to keypoint.
 struct DiscSamples {
-  std::vector<float> x, y;         // image position
-  std::vector<int> u, v, u0, v0;   // nearest pixel, and the bilinear cell's corner
+  std::vector<float> x, y;  // image position
+  std::vector<int> u, v;    // nearest pixel
   std::vector<uint8_t> inside, on_surface;
-  // The cell's grey values, bytes 0 to 3: (u0, v0), (u0 + 1, v0), (u0, v0 + 1)
-  // and (u0 + 1, v0 + 1).
-  std::vector<uint32_t> cell;
+  LevelReads finer, coarser;  // the two pyramid levels read; finer.grey ends as the blend
   std::vector<float> z, x_factor, y_factor, nx, ny, nz;  // at the nearest pixel
   std::vector<uint8_t> counts, level;
   std::vector<uint16_t> rho_level;
   void resize(size_t n) {
     for (auto* a : {&x, &y, &z, &x_factor, &y_factor, &nx, &ny, &nz}) a->resize(n);
-    for (auto* a : {&u, &v, &u0, &v0}) a->resize(n);
+    for (auto* a : {&u, &v}) a->resize(n);
     for (auto* a : {&inside, &on_surface, &counts, &level}) a->resize(n);
-    cell.resize(n);
+    finer.resize(n);
+    coarser.resize(n);
     rho_level.resize(n);
   }
 };
@@ -52,14 +66,14 @@ struct Histogram {
 // The disc's offsets (di, dj) in units of its radius, rotated by theta
 // (cos_t and sin_t scaled by the radius) about the keypoint (cu, cv): the
 // patch's x axis along theta, its y axis 90 degrees on (image v points
-// down). Each sample's nearest pixel (rounded half to even, as cvRound) and
-// bilinear cell, clamped into the image; samples outside it are marked.
+// down). Each sample's nearest pixel (rounded half to even, as cvRound),
+// clamped into the image; samples outside it are marked.
 RISAS_VECTOR_CLONES
 void placeSamples(const float* di, const float* dj, int n, float cu, float cv, float cos_t, float sin_t, int cols,
                   int rows, DiscSamples& d) {
   const float max_u = static_cast<float>(cols - 1), max_v = static_cast<float>(rows - 1);
   float *x = d.x.data(), *y = d.y.data();
-  int *u = d.u.data(), *v = d.v.data(), *u0 = d.u0.data(), *v0 = d.v0.data();
+  int *u = d.u.data(), *v = d.v.data();
   uint8_t* inside = d.inside.data();
 #pragma GCC ivdep  // the arrays are distinct
   for (int s = 0; s < n; ++s) {
@@ -71,26 +85,96 @@ void placeSamples(const float* di, const float* dj, int n, float cu, float cv, f
     const float xc = std::min(xs > 0.0f ? xs : 0.0f, max_u), yc = std::min(ys > 0.0f ? ys : 0.0f, max_v);
     u[s] = static_cast<int>(std::nearbyint(xc));
     v[s] = static_cast<int>(std::nearbyint(yc));
-    u0[s] = std::min(static_cast<int>(xc), cols - 2);
-    v0[s] = std::min(static_cast<int>(yc), rows - 2);
   }
 }
 
+// Each sample's bilinear cell in a pyramid level of cols x rows pixels:
+// its position times `scale` (the level's 2^-l), clamped into the level,
+// as greyAt's bilinear.
+RISAS_VECTOR_CLONES
+void placeOnLevel(const float* x, const float* y, int n, float scale, int cols, int rows, LevelReads& r) {
+  const float max_u = static_cast<float>(cols - 1), max_v = static_cast<float>(rows - 1);
+  int *u0 = r.u0.data(), *v0 = r.v0.data();
+  float *a = r.a.data(), *b = r.b.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float xs = x[s] * scale, ys = y[s] * scale;
+    const float xc = std::min(xs > 0.0f ? xs : 0.0f, max_u), yc = std::min(ys > 0.0f ? ys : 0.0f, max_v);
+    u0[s] = std::min(static_cast<int>(xc), cols - 2);
+    v0[s] = std::min(static_cast<int>(yc), rows - 2);
+    a[s] = xc - static_cast<float>(u0[s]);
+    b[s] = yc - static_cast<float>(v0[s]);
+  }
+}
+
+// Each sample's cell's 2 x 2 grey values in `level`, one by one.
+void lookUpCells(const cv::Mat& level, int n, LevelReads& r) {
+  const int *pu0 = r.u0.data(), *pv0 = r.v0.data();
+  uint32_t* cell = r.cell.data();
+  const uchar* data = level.data;
+  const size_t step = level.step;
+  for (int s = 0; s < n; ++s) {
+    // The four in one store (and, on a little-endian CPU, each row's two in
+    // one load: the compiler merges them).
+    const uchar* row0 = data + static_cast<size_t>(pv0[s]) * step + pu0[s];
+    const uchar* row1 = row0 + step;
+    cell[s] = static_cast<uint32_t>(row0[0]) | static_cast<uint32_t>(row0[1]) << 8 |
+              static_cast<uint32_t>(row1[0]) << 16 | static_cast<uint32_t>(row1[1]) << 24;
+  }
+}
+
+// The bilinear value of each sample's cell.
+RISAS_VECTOR_CLONES
+void interpolateCells(int n, LevelReads& r) {
+  const float *a = r.a.data(), *b = r.b.data();
+  const uint32_t* cell = r.cell.data();
+  float* grey = r.grey.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) {
+    const float g00 = static_cast<float>(cell[s] & 0xff), g01 = static_cast<float>(cell[s] >> 8 & 0xff);
+    const float g10 = static_cast<float>(cell[s] >> 16 & 0xff), g11 = static_cast<float>(cell[s] >> 24);
+    grey[s] = (1.0f - b[s]) * ((1.0f - a[s]) * g00 + a[s] * g01) + b[s] * ((1.0f - a[s]) * g10 + a[s] * g11);
+  }
+}
+
+// finer.grey = (1 - f) finer.grey + f coarser.grey, greyAt's blend.
+RISAS_VECTOR_CLONES
+void blendLevels(int n, float f, DiscSamples& d) {
+  float* finer = d.finer.grey.data();
+  const float* coarser = d.coarser.grey.data();
+#pragma GCC ivdep  // the arrays are distinct
+  for (int s = 0; s < n; ++s) finer[s] = (1.0f - f) * finer[s] + f * coarser[s];
+}
+
+// Each sample's grey value at fractional level lambda (greyAt), into
+// d.finer.grey.
+void readGrey(const GreyPyramid& grey, float lambda, int n, DiscSamples& d) {
+  const int l = static_cast<int>(lambda);
+  const float f = lambda - static_cast<float>(l);
+  const auto read = [&](int level, LevelReads& r) {
+    const cv::Mat& image = grey.level[level];
+    placeOnLevel(d.x.data(), d.y.data(), n, std::ldexp(1.0f, -level), image.cols, image.rows, r);
+    lookUpCells(image, n, r);
+    interpolateCells(n, r);
+  };
+  read(l, d.finer);
+  if (f == 0.0f) return;
+  read(l + 1, d.coarser);
+  blendLevels(n, f, d);
+}
+
 // Each sample's look-ups, one by one: its pixel's surface flag, block normal,
-// depth and back-projection factors, and its cell's 2 x 2 grey values. In
-// two passes, the normals in the second: in one, the loop held more
-// pointers than the CPU has registers and reloaded them every sample.
-// Stride is an int or, for the default, a compile-time constant (a shift).
+// depth and back-projection factors. In two passes, the normals in the
+// second: in one, the loop held more pointers than the CPU has registers and
+// reloaded them every sample. Stride is an int or, for the default, a
+// compile-time constant (a shift).
 template <class Stride>
-void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
+void lookUpSamples(const FrameGeometry& geometry, Stride stride, int n, DiscSamples& d) {
   // Raw pointers and steps, read once: the byte stores could alias
   // anything read through d, geometry or the images' headers.
-  const int *pu = d.u.data(), *pv = d.v.data(), *pu0 = d.u0.data(), *pv0 = d.v0.data();
+  const int *pu = d.u.data(), *pv = d.v.data();
   uint8_t* on = d.on_surface.data();
-  uint32_t* cell = d.cell.data();
   float *z = d.z.data(), *x_factor = d.x_factor.data(), *y_factor = d.y_factor.data();
-  const uchar* gray_data = gray.data;
-  const size_t gray_step = gray.step;
   const uchar* on_data = geometry.on_block_surface.data;
   const size_t on_step = geometry.on_block_surface.step;
   const uchar* depth_data = geometry.depth.data;
@@ -102,12 +186,6 @@ void lookUpSamples(const cv::Mat& gray, const FrameGeometry& geometry, Stride st
     z[s] = reinterpret_cast<const float*>(depth_data + v * depth_step)[u];
     x_factor[s] = x_table[u];
     y_factor[s] = y_table[v];
-    // The four in one store (and, on a little-endian CPU, each row's two in
-    // one load: the compiler merges them).
-    const uchar* row0 = gray_data + static_cast<size_t>(pv0[s]) * gray_step + pu0[s];
-    const uchar* row1 = row0 + gray_step;
-    cell[s] = static_cast<uint32_t>(row0[0]) | static_cast<uint32_t>(row0[1]) << 8 |
-              static_cast<uint32_t>(row1[0]) << 16 | static_cast<uint32_t>(row1[1]) << 24;
   }
   float *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
   const uchar* normals_data = geometry.normals.data;
@@ -129,30 +207,25 @@ struct KeypointFrame {
 
 // Which samples count (inside the image, on their block's surface with a
 // normal, FrameGeometry::hasNormal, and not background, eq. 5), their
-// bilinear grey level rounded to 0 .. 255, and their shape level: the flat
+// grey value (readGrey) rounded to 0 .. 255, and their shape level: the flat
 // majority (rho >= rho-bar) is level kRhoLevels, the rest are ranked on
 // kRhoLevels levels of rho / rho-bar.
 constexpr int kRhoLevels = 256;
 RISAS_VECTOR_CLONES
 void labelSamples(const KeypointFrame& k, int n, DiscSamples& d) {
   const KeypointFrame f = k;  // copied, and raw pointers: the byte stores could alias anything read through d
-  const float *x = d.x.data(), *y = d.y.data(), *z = d.z.data(), *x_factor = d.x_factor.data();
+  const float *z = d.z.data(), *x_factor = d.x_factor.data();
   const float *y_factor = d.y_factor.data(), *nx = d.nx.data(), *ny = d.ny.data(), *nz = d.nz.data();
-  const int *u0 = d.u0.data(), *v0 = d.v0.data();
+  const float* grey = d.finer.grey.data();
   const uint8_t *inside = d.inside.data(), *on = d.on_surface.data();
-  const uint32_t* cell = d.cell.data();
   uint8_t *counts = d.counts.data(), *level = d.level.data();
   uint16_t* rho_level = d.rho_level.data();
 #pragma GCC ivdep  // the arrays are distinct
   for (int s = 0; s < n; ++s) {
     const float dx = x_factor[s] * z[s] - f.kx, dy = y_factor[s] * z[s] - f.ky, dz = z[s] - f.kz;
     counts[s] = inside[s] & (on[s] != 0) & (nz[s] != 0.0f) & (dx * dx + dy * dy + dz * dz < f.t2);
-    const float a = x[s] - static_cast<float>(u0[s]), b = y[s] - static_cast<float>(v0[s]);
-    const float g00 = static_cast<float>(cell[s] & 0xff), g01 = static_cast<float>(cell[s] >> 8 & 0xff);
-    const float g10 = static_cast<float>(cell[s] >> 16 & 0xff), g11 = static_cast<float>(cell[s] >> 24);
-    const float intensity = (1.0f - b) * ((1.0f - a) * g00 + a * g01) + b * ((1.0f - a) * g10 + a * g11);
-    // Rounded; in [0, 255] inside the image, and only those samples count.
-    level[s] = static_cast<uint8_t>(static_cast<int>(intensity + 0.5f));
+    // Rounded; in [0, 255] (every level is clamped into its image).
+    level[s] = static_cast<uint8_t>(static_cast<int>(grey[s] + 0.5f));
     const float rho = std::abs(f.nkx * nx[s] + f.nky * ny[s] + f.nkz * nz[s]);
     const float ratio = rho < f.rho_bar ? rho / f.rho_bar : 1.0f;  // no division by a rho-bar of 0
     const int ranked = std::min(static_cast<int>(ratio * kRhoLevels), kRhoLevels - 1);
@@ -222,8 +295,10 @@ void softHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sec
 
 }  // namespace
 
-bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const Neighbourhood& nb, float radius_px,
-                       double theta, const DiscLayout& disc, const DescriptorParams& params, float* out) {
+bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometry& geometry, const Neighbourhood& nb,
+                       float radius_px, double theta, const DiscLayout& disc, const DescriptorParams& params,
+                       float* out) {
+  const cv::Mat& gray = grey.level[0];
   const int n = static_cast<int>(disc.i.size());
   const int dimension = params.dimension();
   DiscSamples& d = discSamples();
@@ -232,8 +307,9 @@ bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const
                static_cast<float>(std::cos(theta)) * radius_px, static_cast<float>(std::sin(theta)) * radius_px,
                gray.cols, gray.rows, d);
   withDefault<GeometryParams::kDefaultNormalStride>(geometry.normal_stride, [&](auto stride) {
-    lookUpSamples(gray, geometry, stride, n, d);
+    lookUpSamples(geometry, stride, n, d);
   });
+  readGrey(grey, lambda, n, d);
   const KeypointFrame k{static_cast<float>(nb.point.x()),  static_cast<float>(nb.point.y()),
                         static_cast<float>(nb.point.z()),  static_cast<float>(nb.normal.x()),
                         static_cast<float>(nb.normal.y()), static_cast<float>(nb.normal.z()),

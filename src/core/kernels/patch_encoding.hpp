@@ -4,6 +4,7 @@
 // the readable encoding by Descriptor.EncodingIsThePapersHistogramOnEveryPath.
 #pragma once
 
+#include "risas/encoding.hpp"
 #include "risas/geometry.hpp"
 #include "risas/neighbourhood.hpp"
 #include "risas/params.hpp"
@@ -22,10 +23,10 @@ struct DiscLayout {
   const std::vector<uint16_t>& sector;
 };
 
-// PatchEncoder::encode's result for the same inputs (gray: the frame's grey
-// image), bit for bit.
-bool encodePatchKernel(const cv::Mat& gray, const FrameGeometry& geometry, const Neighbourhood& neighbourhood,
-                       float radius_px, double theta, const DiscLayout& disc, const DescriptorParams& params,
-                       float* out);
+// PatchEncoder::encode's result for the same inputs (lambda: the patch's
+// sampleLevel), bit for bit.
+bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometry& geometry,
+                       const Neighbourhood& neighbourhood, float radius_px, double theta, const DiscLayout& disc,
+                       const DescriptorParams& params, float* out);
 
 }  // namespace risas

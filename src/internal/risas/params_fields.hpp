@@ -42,6 +42,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("n_vec", p.n_vec, 1, 64);
   v("n_ring", p.n_ring, 1, 8);
   v("soft_binning", p.soft_binning);
+  v("sample_blur", p.sample_blur, 0.0, 4.0);
   v("rho_threshold", p.rho_threshold, 0.0, 1.0);
   v("support_radius", p.support_radius, 0.0, 1.0);
   v("background_distance", p.background_distance, 1e-3, 10.0);
