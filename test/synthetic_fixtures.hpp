@@ -8,7 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace risas::test {
@@ -28,6 +30,40 @@ inline RgbdFrame renderFrame(const SyntheticScene& scene, const Eigen::Isometry3
   RgbdFrame frame(render.bgr, render.depth_mm, syntheticIntrinsics());
   if (render_out) *render_out = render;
   return frame;
+}
+
+// Kinect-like depth from a rendered one (metres, NaN where none): the
+// disparity quantised to 1/8 pixel (f b = 43.5 px m, so depth steps of
+// z^2 / 348 m: 3 mm at 1 m, 12 mm at 2 m), noise growing with z^2 (sigma
+// 1.5 mm at 1 m), no depth within 2 px of a jump over 5 cm (the projector's
+// shadow and the mixed pixels at silhouettes), and 2 % random holes.
+inline cv::Mat kinectLikeDepth(const cv::Mat& depth, uint64_t seed) {
+  cv::Mat out = depth.clone();
+  cv::RNG rng(seed);
+  const auto jump = [&](int v, int u) {
+    const float z = depth.at<float>(v, u);
+    for (int dv = -2; dv <= 2; ++dv) {
+      for (int du = -2; du <= 2; ++du) {
+        const int y = std::clamp(v + dv, 0, depth.rows - 1), x = std::clamp(u + du, 0, depth.cols - 1);
+        if (!(std::abs(depth.at<float>(y, x) - z) <= 0.05f)) return true;  // a jump or a hole
+      }
+    }
+    return false;
+  };
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      float& z = out.at<float>(v, u);
+      if (std::isnan(z)) continue;
+      if (jump(v, u) || rng.uniform(0.0, 1.0) < 0.02) {
+        z = NAN;
+        continue;
+      }
+      const double noisy = z + rng.gaussian(0.0015 * z * z);
+      const double disparity = std::round(43.5 / noisy * 8.0) / 8.0;
+      z = static_cast<float>(43.5 / disparity);
+    }
+  }
+  return out;
 }
 
 // The camera of the invariance tests: looking down at the demo scene.

@@ -59,6 +59,17 @@ struct DetectorParams {
   int nms_radius = 2;
   // Cap on keypoints per frame, spread over a grid_cols x grid_rows grid.
   int max_keypoints = 500;
+  // Floor on keypoints per frame: when fewer maxima than this pass
+  // response_threshold, the strongest maxima of any positive response make
+  // up this many (at most max_keypoints). The threshold is relative to the
+  // frame's largest response, and on Kinect depth that is often an artefact
+  // at a hole's edge: alone it leaves a texture-poor frame a dozen keypoints,
+  // too few for a pose. A VO front end needs a minimum, as ORB-SLAM lowers
+  // its FAST threshold where it finds too few corners. The default sits
+  // below the counts textured frames get from the threshold (docs/
+  // evaluation.md, "A floor under the relative threshold"), so that it acts
+  // only where the threshold has collapsed. 0: no floor.
+  int min_keypoints = 150;
   int grid_cols = 8;
   int grid_rows = 6;
   // No keypoint closer than this to the image border (px).

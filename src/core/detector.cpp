@@ -110,7 +110,6 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   const float max_response = computeResponse(frame, geometry, buffer.R);
   const cv::Mat& R = buffer.R;
   if (!(max_response > 0.0f)) return;
-  const float threshold = static_cast<float>(params_.response_threshold * max_response);
 
   // Non-maximum suppression: a keypoint is the largest response of its
   // (2 nms_radius + 1)^2 neighbourhood. Tested in full only at candidates
@@ -129,19 +128,35 @@ void Detector::detect(const RgbdFrame& frame, const FrameGeometry& geometry, std
   const int b = params_.border, u_end = R.cols - b;
   std::vector<uchar>& candidates = Workspace::ofThisThread().get<NmsCandidates>().flags;
   candidates.assign(static_cast<size_t>(R.cols) + 8, 0);  // room to read whole eights
-  for (int v = b; v < R.rows - b; ++v) {
-    const float* r = R.ptr<float>(v);
-    candidateRow(R.ptr<float>(std::max(v - 1, 0)), r, R.ptr<float>(std::min(v + 1, R.rows - 1)), threshold,
-                 R.cols, candidates.data());
-    const uchar* allowed = mask.empty() ? nullptr : mask.ptr<uchar>(v);
-    forEachMarked(candidates.data(), b, u_end, [&](int u) {
-      if (!isLocalMaximum(v, u, r[u])) return;
-      if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) return;
-      keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
-                             static_cast<float>(6.0 * params_.window_sigma), -1.0f, r[u]);
-    });
+  // Every local maximum above `threshold`, into keypoints.
+  const auto collectMaxima = [&](float threshold) {
+    keypoints.clear();
+    for (int v = b; v < R.rows - b; ++v) {
+      const float* r = R.ptr<float>(v);
+      candidateRow(R.ptr<float>(std::max(v - 1, 0)), r, R.ptr<float>(std::min(v + 1, R.rows - 1)), threshold,
+                   R.cols, candidates.data());
+      const uchar* allowed = mask.empty() ? nullptr : mask.ptr<uchar>(v);
+      forEachMarked(candidates.data(), b, u_end, [&](int u) {
+        if (!isLocalMaximum(v, u, r[u])) return;
+        if ((allowed && !allowed[u]) || !geometry.hasNormal(v, u)) return;
+        keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)),
+                               static_cast<float>(6.0 * params_.window_sigma), -1.0f, r[u]);
+      });
+    }
+  };
+  collectMaxima(static_cast<float>(params_.response_threshold * max_response));
+  if (static_cast<int>(keypoints.size()) >= params_.min_keypoints) {
+    retainBestSpread(keypoints, params_.max_keypoints, frame.size(), params_.grid_cols, params_.grid_rows);
+    return;
   }
-  retainBestSpread(keypoints, params_.max_keypoints, frame.size(), params_.grid_cols, params_.grid_rows);
+  // Too few: the strongest maxima anywhere. Not a share per grid cell: below
+  // the threshold a texture-poor frame's cells hold little but noise. Above
+  // kRoundingFloor only: R ~ (gradient)^4, and 1e-6 is a corner of gradients
+  // 0.03 grey levels per pixel, finer than an 8-bit image holds; below it
+  // are a flat face's float rounding errors (1e-19 to 1e-8 on a rendered one).
+  constexpr float kRoundingFloor = 1e-6f;
+  collectMaxima(kRoundingFloor);
+  retainBestSpread(keypoints, std::min(params_.min_keypoints, params_.max_keypoints), frame.size(), 1, 1);
 }
 
 void retainBestSpread(std::vector<cv::KeyPoint>& keypoints, int max_count, cv::Size image_size, int grid_cols,

@@ -115,6 +115,7 @@ risas::RisasParams params(Bytes& in) {
   if (in.byte() % 2) return p;
   p.detector.tau = in.number(0.0, 1.0);
   p.detector.max_keypoints = in.in(1, 300);
+  p.detector.min_keypoints = in.in(0, 300);
   p.detector.border = in.in(0, 12);
   p.descriptor.n_pie = in.in(1, 16);
   p.descriptor.n_bin = in.in(1, 16);

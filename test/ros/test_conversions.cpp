@@ -290,7 +290,7 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
   const auto detector = expectCfgMatchesLibrary<risas::RisasDetectorConfig>(defaults.detector);
   const auto descriptor = expectCfgMatchesLibrary<risas::RisasDescriptorConfig>(defaults.descriptor);
   const auto match = expectCfgMatchesLibrary<risas::RisasMatchConfig>(defaults.match);
-  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints"}));
+  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints", "min_keypoints"}));
   EXPECT_EQ(descriptor.size(), 7u);
   EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
 }

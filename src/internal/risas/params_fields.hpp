@@ -29,6 +29,7 @@ void visitFields(DetectorParams& p, V&& v) {
   v("response_threshold", p.response_threshold, 0.0, 1.0);
   v("nms_radius", p.nms_radius, 1, 50);
   v("max_keypoints", p.max_keypoints, 1, 20000);
+  v("min_keypoints", p.min_keypoints, 0, 20000);
   v("grid_cols", p.grid_cols, 1, 256);
   v("grid_rows", p.grid_rows, 1, 256);
   v("border", p.border, 0, 1000);
