@@ -11,7 +11,8 @@
 //                   factors, normals), NormalBuffers (the normals' grid cloud and
 //                   label images), the main normal's bins and P's grid inputs,
 //                   ResponseBuffers (P's grid and R), the NMS candidates, the
-//                   descriptor's disc samples and histogram;
+//                   grey pyramid's coarse levels, the descriptor's disc samples
+//                   and histogram;
 //   every thread of cv::parallel_for_ (the caller among them)
 //                   the row buffers of the normals' bands and grid rows, of
 //                   P's smoothing, and of the eq. 1 kernel (its window ring and
