@@ -34,12 +34,24 @@ if [[ " $stages " == *" ros "* ]]; then
   echo "== stage ros took ${SECONDS} s"
 fi
 
+# own_build_dir DIR SOURCE: DIR as a CMake build folder of SOURCE. One that
+# another clone on this machine configured is started afresh: CMake refuses
+# a second source for a build folder.
+own_build_dir() {
+  local dir=$1 src=$2
+  if [ -f "$dir/CMakeCache.txt" ] && ! grep -qxF "CMAKE_HOME_DIRECTORY:INTERNAL=$src" "$dir/CMakeCache.txt"; then
+    rm -rf "$dir"
+  fi
+  mkdir -p "$dir"
+}
+
 # plain_build NAME CXX FLAGS...: configures and builds the ROS-free core, its
 # tools and tests in $plain_root/NAME.
 plain_build() {
   local name=$1 cxx=$2 flags=$3
   shift 3
   local dir="$plain_root/$name"
+  own_build_dir "$dir" "$RISAS_ROOT"
   cmake -S "$RISAS_ROOT" -B "$dir" -DRISAS_WITH_ROS=OFF -DCMAKE_CXX_COMPILER="$cxx" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" "$@" > "$dir.configure.log" 2>&1 ||
     { tail -30 "$dir.configure.log"; exit 1; }
@@ -79,6 +91,9 @@ if [[ " $stages " == *" downstream "* ]]; then
   SECONDS=0
   # The catkin package without tests (it must build so), installed.
   notest_ws="$plain_root/catkin_notest_ws"
+  # Built from another clone last: its build would not notice this one's
+  # files (as risas_build's workspace), so it starts afresh.
+  [ "$(readlink "$notest_ws/src/risas" 2>/dev/null)" = "$RISAS_ROOT" ] || rm -rf "$notest_ws"
   mkdir -p "$notest_ws/src"
   ln -sfn "$RISAS_ROOT" "$notest_ws/src/risas"
   catkin_make -C "$notest_ws" "${RISAS_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=OFF -j"$(nproc)" install \
@@ -89,6 +104,7 @@ if [[ " $stages " == *" downstream "* ]]; then
   cmake --install "$plain_root/clang" --prefix "$plain_root/prefix" > "$plain_root/install.log" 2>&1 ||
     { tail -20 "$plain_root/install.log"; exit 1; }
   dir="$plain_root/downstream"
+  own_build_dir "$dir" "$RISAS_ROOT/test/downstream"
   cmake -S "$RISAS_ROOT/test/downstream" -B "$dir" -DRISAS_PREFIX="$plain_root/prefix" \
         -DRISAS_CATKIN_INSTALL="$notest_ws/install" > "$dir.configure.log" 2>&1 || { tail -20 "$dir.configure.log"; exit 1; }
   (cd "$dir" && ctest --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
