@@ -73,6 +73,35 @@ TEST(PoseRecovery, ExactMatchesGiveZeroErrorAndSuccess) {
   EXPECT_FALSE(none.within(180.0, 1e9));
 }
 
+TEST(PoseRecovery, InlierSpreadIsSmallForPointsAlongALine) {
+  // 21 points 1 cm apart along x: the spread across the line is 0, and
+  // moved 1 cm off it alternately in y, 1 cm (the points' standard
+  // deviation in y). A grid: its shorter side's standard deviation.
+  std::vector<cv::Point3f> line;
+  for (int i = -10; i <= 10; ++i) line.emplace_back(0.01f * i, 0.0f, 1.0f);
+  EXPECT_NEAR(inlierSpread(line), 0.0, 1e-6);
+  for (size_t i = 0; i < line.size(); ++i) line[i].y = (i % 2 ? 0.01f : -0.01f);
+  EXPECT_NEAR(inlierSpread(line), 0.01, 5e-4);
+  std::vector<cv::Point3f> grid;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 2; ++j) grid.emplace_back(0.1f * i, 0.1f * j, 1.0f);
+  }
+  EXPECT_NEAR(inlierSpread(grid), 0.05, 1e-6);  // y is 0 or 0.1: deviation 0.05
+  EXPECT_EQ(inlierSpread({}), 0.0);
+  // Estimated from the grid of exact matches: their spread.
+  const Eigen::Isometry3d truth = someMotion();
+  std::vector<cv::Point3f> reference;
+  std::vector<Candidate> candidates;
+  for (size_t i = 0; i < grid.size(); ++i) {
+    const Eigen::Vector3d p = truth * Eigen::Vector3d(grid[i].x, grid[i].y, grid[i].z);
+    reference.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    candidates.push_back({0.5, true, static_cast<int>(i), static_cast<int>(i)});
+  }
+  const PoseRecovery r = recoverPose(candidates, 0.8, grid, reference, truth);
+  ASSERT_TRUE(r.estimated);
+  EXPECT_NEAR(r.inlier_spread_m, 0.05, 1e-6);
+}
+
 TEST(Repeatability, CountsKeypointsSeenByBothCamerasAndFoundAgain) {
   // A wall at 2 m seen by a reference camera; the query camera is 0.1 m to
   // its right (p_ref = p_query + (0.1, 0, 0)). K: f = 100, centre (50, 40).
@@ -94,6 +123,28 @@ TEST(Repeatability, CountsKeypointsSeenByBothCamerasAndFoundAgain) {
   EXPECT_EQ(r.visible, 3);
   EXPECT_EQ(r.repeated, 1);  // (35, 40) found 0.5 px off; (65, 20) is 3.5 px off; (95, 70) has none
   EXPECT_NEAR(r.rate(), 1.0 / 3.0, 1e-12);
+}
+
+TEST(Repeatability, FindsEachReferenceKeypointOnceNearestFirst) {
+  // Identity motion, a wall at 1 m, f = 100: a query keypoint projects onto
+  // its own pixel. Four query keypoints within 3 px of one reference
+  // keypoint find it once; a second reference keypoint 1 px from the first
+  // query's projection goes to it, and the second query, 2.5 px from the
+  // first reference keypoint, keeps that one.
+  const Intrinsics K(100, 100, 50, 40);
+  const cv::Mat depth(80, 100, CV_32FC1, cv::Scalar(1.0f));
+  std::vector<cv::Point3f> query;
+  for (const cv::Point2f px : {cv::Point2f(30, 40), cv::Point2f(32.5f, 40), cv::Point2f(30, 42), cv::Point2f(28, 39)}) {
+    query.emplace_back((px.x - 50) / 100, (px.y - 40) / 100, 1.0f);
+  }
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  Repeatability r = detectorRepeatability(query, {{30.0f, 40.0f}}, depth, K, identity, 3.0, 0.05);
+  EXPECT_EQ(r.visible, 4);
+  EXPECT_EQ(r.repeated, 1);
+  // (30, 40) takes (30, 40) at 0 px; (30, 42) takes (30.5, 41) at 1.1 px;
+  // (32.5, 40) and (28, 39) find both taken.
+  r = detectorRepeatability(query, {{30.0f, 40.0f}, {30.5f, 41.0f}}, depth, K, identity, 3.0, 0.05);
+  EXPECT_EQ(r.repeated, 2);
 }
 
 TEST(PoseRecovery, RisasMatchesOfARenderedPairRecoverItsMotion) {

@@ -46,7 +46,13 @@ Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points
   CV_Assert(reference_depth_metres.type() == CV_32FC1);
   Repeatability r;
   const double tol2 = pixel_tolerance * pixel_tolerance;
-  for (const cv::Point3f& q : query_points) {
+  struct Pairing {
+    double distance2;
+    size_t query, reference;
+  };
+  std::vector<Pairing> pairings;  // every visible query's reference keypoints within the tolerance
+  for (size_t i = 0; i < query_points.size(); ++i) {
+    const cv::Point3f& q = query_points[i];
     const Eigen::Vector3d p = ref_T_query * Eigen::Vector3d(q.x, q.y, q.z);
     if (!(p.z() > 0.0)) continue;
     const double u = intrinsics.fx * p.x() / p.z() + intrinsics.cx, v = intrinsics.fy * p.y() / p.z() + intrinsics.cy;
@@ -55,10 +61,21 @@ Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points
     const float z = reference_depth_metres.at<float>(iv, iu);
     if (!(std::abs(z - p.z()) <= depth_tolerance)) continue;  // occluded, or no depth there
     ++r.visible;
-    r.repeated += std::any_of(reference_pixels.begin(), reference_pixels.end(), [&](const cv::Point2f& k) {
-      const double du = k.x - u, dv = k.y - v;
-      return du * du + dv * dv <= tol2;
-    });
+    for (size_t j = 0; j < reference_pixels.size(); ++j) {
+      const double du = reference_pixels[j].x - u, dv = reference_pixels[j].y - v;
+      if (du * du + dv * dv <= tol2) pairings.push_back({du * du + dv * dv, i, j});
+    }
+  }
+  // One to one, nearest pairs first: a reference keypoint found again counts
+  // once, so a dense cluster of reference keypoints does not collect the
+  // projections of every query keypoint near it.
+  std::stable_sort(pairings.begin(), pairings.end(),
+                   [](const Pairing& a, const Pairing& b) { return a.distance2 < b.distance2; });
+  std::vector<char> query_taken(query_points.size(), 0), reference_taken(reference_pixels.size(), 0);
+  for (const Pairing& pairing : pairings) {
+    if (query_taken[pairing.query] || reference_taken[pairing.reference]) continue;
+    query_taken[pairing.query] = reference_taken[pairing.reference] = 1;
+    ++r.repeated;
   }
   return r;
 }

@@ -1,5 +1,7 @@
 #include "risas/evaluation/pose_recovery.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -25,6 +27,22 @@ PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& 
   return e;
 }
 
+double inlierSpread(const std::vector<cv::Point3f>& points) {
+  if (points.size() < 2) return 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const cv::Point3f& p : points) mean += Eigen::Vector3d(p.x, p.y, p.z);
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const cv::Point3f& p : points) {
+    const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+    covariance += d * d.transpose();
+  }
+  covariance /= static_cast<double>(points.size());
+  // Eigenvalues in increasing order: the middle one.
+  const Eigen::Vector3d variances = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  return std::sqrt(std::max(0.0, variances(1)));
+}
+
 MotionParams poseRecoveryRansac() {
   MotionParams p;
   p.inlier_threshold = 0.03;
@@ -46,6 +64,11 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
   r.estimated = m.valid;
   if (!m.valid) return r;
   r.inliers = m.num_inliers;
+  std::vector<cv::Point3f> inlier_points;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (m.inliers[i]) inlier_points.push_back(query_points[static_cast<size_t>(matches[i].queryIdx)]);
+  }
+  r.inlier_spread_m = inlierSpread(inlier_points);
   r.error = poseError(m.train_T_query, ref_T_query, query_points);
   return r;
 }

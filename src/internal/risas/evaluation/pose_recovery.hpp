@@ -28,11 +28,19 @@ struct PoseRecovery {
   int matches = 0;         // at the ratio, the RANSAC's input
   bool estimated = false;  // RANSAC found at least min_inliers agreeing
   int inliers = 0;
+  // How far the inliers' query points spread across their longest direction
+  // (metres; 0 when nothing was estimated): inlierSpread.
+  double inlier_spread_m = 0.0;
   PoseError error{INFINITY, INFINITY};  // infinite when nothing was estimated
   bool within(double degrees, double metres) const {
     return estimated && error.rotation_deg <= degrees && error.alignment_m <= metres;
   }
 };
+
+// The second principal standard deviation of the points: near 0 when they
+// lie along a line (or in one place), about which a rotation fitted to them
+// is then poorly determined, however many there are. 0 for fewer than 2.
+double inlierSpread(const std::vector<cv::Point3f>& points);
 
 // RANSAC of the report: 3 cm inlier distance, a fixed seed, otherwise
 // MotionParams' defaults.
