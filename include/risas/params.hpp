@@ -138,6 +138,14 @@ struct DescriptorParams {
   // viewing ray d3D's projection is noise, and the intensity centroid gives
   // theta instead.
   double min_projection_angle_deg = 15.0;
+  // Without shape_orientation (and where eq. 7's projection is noise): true,
+  // theta from the patch's grey gradients read at its own scale
+  // (gradientOrientation, SIFT's rule), which holds across a change of
+  // distance; false, from the rank-weighted intensity centroid of the
+  // frame's grey image (ORB's rule, on ranks), which turns with the fine
+  // texture a farther view no longer resolves, but costs nothing. Off by
+  // default for its cost, about 48 us a keypoint (docs/evaluation.md).
+  bool gradient_orientation = false;
 
   // The largest descriptor validate() accepts: 8 KB a keypoint. Far past it
   // a patch's few thousand samples leave nearly every bin empty, and one

@@ -40,9 +40,12 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       const float R = std::min(patchRadius(geometry.depth.at<float>(v, u), scales, params_.support_radius, K), max_radius);
       const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
       if (!nb) continue;
-      const Orientation orientation = dominantOrientation(*nb, K, params_);
+      Orientation orientation = dominantOrientation(*nb, K, params_);
       if (orientation.source == OrientationSource::Rejected) continue;
       const float radius = ellipseRadius(*nb, K, params_.min_radius_px, params_.max_radius_px);
+      if (orientation.source == OrientationSource::IntensityCentroid && params_.gradient_orientation) {
+        orientation.theta = gradientOrientation(grey, geometry, *nb, radius, params_);
+      }
       if (!encoder_.encode(grey, geometry, *nb, radius, orientation.theta, rows.ptr<float>(i))) continue;
 
       double degrees = orientation.theta * 180.0 / CV_PI;

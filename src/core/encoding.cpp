@@ -31,15 +31,19 @@ void buildGreyPyramid(const cv::Mat& gray, int levels, GreyPyramid& pyramid) {
   }
 }
 
-float sampleLevel(float radius_px, const DescriptorParams& params, int levels) {
-  const double sigma = params.sample_blur * radius_px / params.patch_radius;
-  const double lambda = 0.5 * std::log2(1.0 + 3.0 * sigma * sigma);
+float blurLevel(double sigma_px, int levels) {
+  const double lambda = 0.5 * std::log2(1.0 + 3.0 * sigma_px * sigma_px);
   return static_cast<float>(std::min<double>(lambda, levels - 1));
 }
 
+float sampleLevel(float radius_px, const DescriptorParams& params, int levels) {
+  return blurLevel(params.sample_blur * radius_px / params.patch_radius, levels);
+}
+
 int pyramidLevelsNeeded(const DescriptorParams& params) {
-  const float lambda = sampleLevel(static_cast<float>(params.max_radius_px), params, GreyPyramid::kMaxLevels);
-  return static_cast<int>(std::ceil(lambda)) + 1;
+  const double spacing = params.max_radius_px / params.patch_radius;  // the widest patch's
+  const double blur = std::max(params.sample_blur, params.gradient_orientation ? kOrientationBlur : 0.0) * spacing;
+  return static_cast<int>(std::ceil(blurLevel(blur, GreyPyramid::kMaxLevels))) + 1;
 }
 
 namespace {

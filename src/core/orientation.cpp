@@ -2,8 +2,12 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace risas {
 namespace {
@@ -16,6 +20,118 @@ Eigen::Vector2d projectDirection(const Eigen::Vector3d& d, const Eigen::Vector3d
 }
 
 double angleOf(const Eigen::Vector2d& d) { return std::atan2(d.y(), d.x()); }
+
+// gradientOrientation's histogram: 36 bins of 10 degrees, as SIFT's.
+constexpr int kOrientationBins = 36;
+using Histogram = std::array<double, kOrientationBins>;
+
+// Bin b of the circle, for b in [-kOrientationBins, 2 kOrientationBins).
+size_t wrapBin(int b) { return static_cast<size_t>(b < 0 ? b + kOrientationBins : b >= kOrientationBins ? b - kOrientationBins : b); }
+
+// How far, in samples, the pyramid's blur carries the background's grey
+// across a silhouette: twice the blur, rounded up. A gradient read there
+// points at the background, not along the surface's pattern.
+constexpr int kBlurReach = static_cast<int>(2.0 * kOrientationBlur + 0.999);
+
+// What a grid sample shows, from the depth at its nearest pixel.
+enum class SampleKind : unsigned char {
+  Counted,     // a normal, and foreground by eq. 5: as the encoder counts a sample
+  Uncounted,   // no depth or no normal: no vote, but its grey is the surface's or a hole's
+  Background,  // outside the image, or beyond t of k_i (eq. 5): its grey is not the surface's
+};
+
+// The disc's unrotated sample grid (patch_radius samples per radius), out
+// to one sample around the disc and kBlurReach beyond, row by row.
+struct OrientationGrid {
+  int half = 0, side = 0;        // samples from the centre to the edge; 2 half + 1
+  std::vector<SampleKind> kind;
+  std::vector<float> grey;       // read for Counted samples within the disc and one sample around it
+  size_t at(int i, int j) const { return static_cast<size_t>((j + half) * side + (i + half)); }
+};
+
+// The grid about the keypoint, `spacing` pixels a sample, into g; the grey
+// read at fractional level lambda.
+void fillOrientationGrid(const GreyPyramid& grey, float lambda, const FrameGeometry& geometry, const Neighbourhood& nb,
+                         float spacing, int radius, double background_distance, OrientationGrid& g) {
+  g.half = radius + 1 + kBlurReach, g.side = 2 * g.half + 1;
+  g.kind.assign(static_cast<size_t>(g.side * g.side), SampleKind::Background);
+  g.grey.assign(g.kind.size(), 0.0f);
+  const cv::Size size = geometry.depth.size();
+  const cv::Vec3f k(static_cast<float>(nb.point.x()), static_cast<float>(nb.point.y()), static_cast<float>(nb.point.z()));
+  const float t2 = static_cast<float>(background_distance * background_distance);
+  for (int j = -g.half; j <= g.half; ++j) {
+    for (int i = -g.half; i <= g.half; ++i) {
+      const float x = nb.centre.x + spacing * static_cast<float>(i), y = nb.centre.y + spacing * static_cast<float>(j);
+      if (!(x >= 0.0f && y >= 0.0f && x <= size.width - 1 && y <= size.height - 1)) continue;
+      const int u = static_cast<int>(std::nearbyint(x)), v = static_cast<int>(std::nearbyint(y));
+      SampleKind& kind = g.kind[g.at(i, j)];
+      if (!geometry.hasPoint(v, u)) {
+        kind = SampleKind::Uncounted;
+        continue;
+      }
+      const cv::Vec3f p = geometry.point(v, u) - k;
+      if (!(p.dot(p) < t2)) continue;  // Background
+      if (!geometry.hasNormal(v, u)) {
+        kind = SampleKind::Uncounted;
+        continue;
+      }
+      kind = SampleKind::Counted;
+      if (std::abs(i) <= radius + 1 && std::abs(j) <= radius + 1) g.grey[g.at(i, j)] = greyAt(grey, lambda, x, y);
+    }
+  }
+}
+
+// Which grid samples have no Background sample within kBlurReach in rows
+// and columns (a separable erosion; past the grid's edge counts as
+// Background).
+std::vector<char> clearOfTheBackground(const OrientationGrid& g) {
+  std::vector<char> row_clear(g.kind.size(), 0), clear(g.kind.size(), 0);
+  for (int j = -g.half; j <= g.half; ++j) {
+    for (int i = -g.half + kBlurReach; i <= g.half - kBlurReach; ++i) {
+      bool ok = true;
+      for (int d = -kBlurReach; d <= kBlurReach && ok; ++d) ok = g.kind[g.at(i + d, j)] != SampleKind::Background;
+      row_clear[g.at(i, j)] = ok;
+    }
+  }
+  for (int j = -g.half + kBlurReach; j <= g.half - kBlurReach; ++j) {
+    for (int i = -g.half; i <= g.half; ++i) {
+      bool ok = true;
+      for (int d = -kBlurReach; d <= kBlurReach && ok; ++d) ok = row_clear[g.at(i, j + d)];
+      clear[g.at(i, j)] = ok;
+    }
+  }
+  return clear;
+}
+
+// Four passes of [1 2 1] / 4 around the circle, a binomial of about 14
+// degrees (OpenCV's SIFT smooths with two passes, VLFeat's with six of a
+// three-bin box): a corner's two edges each make a peak, and an unsmoothed
+// histogram's highest bin jumps between them with the noise.
+Histogram smoothed(Histogram histogram) {
+  for (int pass = 0; pass < 4; ++pass) {
+    Histogram next{};
+    for (int b = 0; b < kOrientationBins; ++b) {
+      next[wrapBin(b)] = 0.25 * (histogram[wrapBin(b - 1)] + 2.0 * histogram[wrapBin(b)] + histogram[wrapBin(b + 1)]);
+    }
+    histogram = next;
+  }
+  return histogram;
+}
+
+// The highest bin's angle, refined by the vertex of the parabola through it
+// and its two neighbours; radians in [0, 2 pi). 0 when all are zero.
+double peakAngle(const Histogram& histogram) {
+  int peak = 0;
+  for (int b = 1; b < kOrientationBins; ++b) {
+    if (histogram[wrapBin(b)] > histogram[wrapBin(peak)]) peak = b;
+  }
+  const double left = histogram[wrapBin(peak - 1)], centre = histogram[wrapBin(peak)],
+               right = histogram[wrapBin(peak + 1)];
+  if (!(centre > 0.0)) return 0.0;  // nothing voted: a flat patch
+  const double curvature = left - 2.0 * centre + right;
+  const double offset = curvature < 0.0 ? 0.5 * (left - right) / curvature : 0.0;
+  return (peak + 0.5 + offset) * (2.0 * CV_PI / kOrientationBins);
+}
 
 }  // namespace
 
@@ -52,6 +168,44 @@ Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intri
   if (result.source == OrientationSource::MajorAxis && d2d.dot(centroid) < 0.0) d2d = -d2d;
   result.theta = angleOf(d2d);
   return result;
+}
+
+double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& nb,
+                           float radius_px, const DescriptorParams& params) {
+  const int steps = params.patch_radius;
+  const float spacing = radius_px / static_cast<float>(steps);
+  thread_local OrientationGrid g;  // reused: its buffers outlive the call
+  fillOrientationGrid(grey, blurLevel(kOrientationBlur * spacing, grey.levels), geometry, nb, spacing, steps,
+                      params.background_distance, g);
+  const std::vector<char> clear = clearOfTheBackground(g);
+  const auto counted = [&](int i, int j) { return g.kind[g.at(i, j)] == SampleKind::Counted; };
+  // A Gaussian as wide as the disc, separable: its factor per row or column.
+  std::vector<double> gaussian(static_cast<size_t>(2 * steps + 1));
+  for (int i = -steps; i <= steps; ++i) gaussian[static_cast<size_t>(i + steps)] = std::exp(-0.5 * i * i / (steps * steps));
+  // Each counted sample of the disc, clear of the background, whose four
+  // neighbours are counted too votes its gradient (central differences):
+  // its magnitude times the Gaussian, into the two bins nearest its
+  // direction.
+  Histogram histogram{};
+  for (int j = -steps; j <= steps; ++j) {
+    for (int i = -steps; i <= steps; ++i) {
+      if (i * i + j * j > steps * steps || !clear[g.at(i, j)] || !counted(i, j) || !counted(i - 1, j) ||
+          !counted(i + 1, j) || !counted(i, j - 1) || !counted(i, j + 1)) {
+        continue;
+      }
+      const float gx = g.grey[g.at(i + 1, j)] - g.grey[g.at(i - 1, j)];
+      const float gy = g.grey[g.at(i, j + 1)] - g.grey[g.at(i, j - 1)];
+      if (gx == 0.0f && gy == 0.0f) continue;
+      const double weight =
+          std::hypot(gx, gy) * gaussian[static_cast<size_t>(i + steps)] * gaussian[static_cast<size_t>(j + steps)];
+      const double bin = cv::fastAtan2(gy, gx) / 360.0 * kOrientationBins - 0.5;  // bin b's centre at b + 0.5
+      const int below = static_cast<int>(std::floor(bin));
+      const double above_share = bin - below;
+      histogram[wrapBin(below)] += weight * (1.0 - above_share);
+      histogram[wrapBin(below + 1)] += weight * above_share;
+    }
+  }
+  return peakAngle(smoothed(histogram));
 }
 
 }  // namespace risas

@@ -124,6 +124,7 @@ risas::RisasParams params(Bytes& in) {
   p.descriptor.rho_threshold = in.number(0.0, 1.0);
   p.descriptor.support_radius = in.number(0.0, 0.2);
   p.descriptor.shape_orientation = in.byte() % 2;
+  p.descriptor.gradient_orientation = in.byte() % 2;
   p.descriptor.soft_binning = in.byte() % 2;
   p.descriptor.sample_blur = in.number(0.0, 4.0);
   p.geometry.normal_stride = in.in(1, 4);

@@ -41,7 +41,19 @@ void buildGreyPyramid(const cv::Mat& gray, int levels, GreyPyramid& pyramid);
 // own grey image, the paper's sampling.
 float sampleLevel(float radius_px, const DescriptorParams& params, int levels);
 
-// The levels sampleLevel can ask for with these parameters, at most.
+// The fractional level whose blur is sigma_px level-0 pixels,
+// log4(1 + 3 sigma_px^2), clamped to [0, levels - 1]: sampleLevel's and
+// gradientOrientation's.
+float blurLevel(double sigma_px, int levels);
+
+// gradientOrientation reads its samples where the pyramid's blur is this many
+// sample spacings (SIFT takes its orientation histogram on the level whose
+// blur is 1.6 of that level's pixels): the gradients of samples one spacing
+// apart then see the grey pattern smooth enough not to turn with its noise.
+constexpr double kOrientationBlur = 1.5;
+
+// The levels sampleLevel and gradientOrientation can ask for with these
+// parameters, at most.
 int pyramidLevelsNeeded(const DescriptorParams& params);
 
 // The grey value at level-0 point (x, y) read at fractional level lambda:

@@ -1,6 +1,8 @@
 // Paper III-B-2: dominant orientation of a keypoint's patch.
 #pragma once
 
+#include "risas/encoding.hpp"
+#include "risas/geometry.hpp"
 #include "risas/intrinsics.hpp"
 #include "risas/neighbourhood.hpp"
 #include "risas/params.hpp"
@@ -32,5 +34,21 @@ struct Orientation {
 //    ranks, so monotonic illumination changes cannot turn it).
 Orientation dominantOrientation(const Neighbourhood& neighbourhood, const Intrinsics& intrinsics,
                                 const DescriptorParams& params);
+
+// theta from the patch's grey gradients at the patch's own scale
+// (descriptor.gradient_orientation), SIFT's orientation assignment (Lowe
+// 2004, section 5) on the descriptor's sample grid: the disc of radius_px,
+// unrotated, patch_radius samples per radius, read where the pyramid's blur
+// is kOrientationBlur sample spacings (encoding.hpp). Each sample's
+// gradient, from its four grid neighbours, votes its magnitude, weighted by
+// a Gaussian as wide as the disc, into 36 bins of 10 degrees; the histogram
+// is smoothed, and theta is the highest bin's angle refined by a parabola
+// through it and its neighbours. A sample votes when it and its neighbours
+// are counted as the encoder counts samples (a normal, foreground by
+// eq. 5) and no background sample lies within the blur's reach: there a
+// gradient would point at the background. Radians, v pointing down, as
+// Orientation::theta; 0 when nothing votes.
+double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& neighbourhood,
+                           float radius_px, const DescriptorParams& params);
 
 }  // namespace risas

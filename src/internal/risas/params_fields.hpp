@@ -53,6 +53,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("min_valid_fraction", p.min_valid_fraction, 0.0, 1.0);
   v("shape_orientation", p.shape_orientation);
   v("min_projection_angle_deg", p.min_projection_angle_deg, 0.0, 90.0);
+  v("gradient_orientation", p.gradient_orientation);
 }
 
 template <class V>
