@@ -200,7 +200,8 @@ TEST(Encoding, GreyPyramidLevelsReadTheSamePointAtEveryScale) {
 
 TEST(Descriptor, DimensionIsNPieTimesNBinTimesNVecPlusOne) {
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
-  for (const cv::Vec3i& bins : {cv::Vec3i(8, 8, 2), cv::Vec3i(4, 8, 1), cv::Vec3i(12, 16, 2), cv::Vec3i(3, 5, 4)}) {
+  for (const cv::Vec3i& bins :
+       {cv::Vec3i(8, 8, 0), cv::Vec3i(8, 8, 2), cv::Vec3i(4, 8, 1), cv::Vec3i(12, 16, 2), cv::Vec3i(3, 5, 4)}) {
     RisasParams params;
     params.descriptor.n_pie = bins[0];
     params.descriptor.n_bin = bins[1];
@@ -291,43 +292,78 @@ TEST(Descriptor, DropsKeypointsItCannotDescribe) {
   EXPECT_EQ(info.size(), 1u);
 }
 
+// f() on the kernels' path, then on the readable one
+// (cv::setUseOptimized(false)).
+template <class F>
+auto onBothPaths(F f) {
+  const auto fast = f();
+  cv::setUseOptimized(false);
+  const auto readable = f();
+  cv::setUseOptimized(true);
+  return std::make_pair(fast, readable);
+}
+
+// The demo scene, its geometry and the detector's `count` strongest
+// keypoints on it: the kernels' tests compare their paths on these.
+struct DemoKeypoints {
+  explicit DemoKeypoints(size_t count)
+      : frame(test::renderFrame(SyntheticScene::demo(), test::demoCamera())),
+        geometry(computeGeometry(frame, GeometryParams())) {
+    Detector().detect(frame, geometry, keypoints);
+    EXPECT_GE(keypoints.size(), count);
+    keypoints.resize(std::min(count, keypoints.size()));
+  }
+  // The grey pyramid the descriptor reads with params.
+  GreyPyramid pyramid(const DescriptorParams& params) const {
+    GreyPyramid grey;
+    buildGreyPyramid(frame.gray(), pyramidLevelsNeeded(params), grey);
+    return grey;
+  }
+  // The foreground about `keypoint` in a disc of 30 px.
+  std::optional<Neighbourhood> neighbourhood(const cv::KeyPoint& keypoint, const DescriptorParams& params) const {
+    return selectNeighbourhood(frame, geometry, keypoint.pt, 30.0f, params.background_distance);
+  }
+  RgbdFrame frame;
+  FrameGeometry geometry;
+  std::vector<cv::KeyPoint> keypoints;
+};
+
 TEST(Descriptor, EncodingIsThePapersHistogramOnEveryPath) {
   // The kernel (kernels/patch_encoding.cpp) against the readable encoding
   // (encoding.cpp, cv::setUseOptimized(false)): keypoints of the demo scene
   // (texture and curved, tilted surfaces), at several angles and radii (so
   // at whole and fractional pyramid levels), one reaching past the image's
-  // edge; one vote or soft binning, the frame's grey image or the pyramid.
-  const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
-  const FrameGeometry g = computeGeometry(frame, GeometryParams());
-  std::vector<cv::KeyPoint> keypoints;
-  Detector().detect(frame, g, keypoints);
-  ASSERT_GE(keypoints.size(), 20u);
-  keypoints.resize(20);
+  // edge; one vote or soft binning, the frame's grey image or the pyramid,
+  // with and without the shape labels.
+  const DemoKeypoints demo(20);
+  const FrameGeometry& g = demo.geometry;
+  std::vector<cv::KeyPoint> keypoints = demo.keypoints;
   keypoints.emplace_back(cv::Point2f(4.0f, 240.0f), 7.0f);  // the disc crosses the left edge
   keypoints.emplace_back(cv::Point2f(637.0f, 478.0f), 7.0f);  // past the coarse levels' last pixel
+  for (const int n_vec : {0, 2}) {  // no shape labels, the paper's
   for (const bool soft_binning : {false, true}) {
     for (const double sample_blur : {0.0, 0.5, 1.5}) {
       SCOPED_TRACE(std::string(soft_binning ? "soft binning" : "one vote per sample") + ", sample_blur " +
-                   std::to_string(sample_blur));
+                   std::to_string(sample_blur) + ", n_vec " + std::to_string(n_vec));
       DescriptorParams params;
+      params.n_vec = n_vec;
       params.soft_binning = soft_binning;
       params.sample_blur = sample_blur;
       const PatchEncoder encoder(params);
-      GreyPyramid grey;
-      buildGreyPyramid(frame.gray(), pyramidLevelsNeeded(params), grey);
+      const GreyPyramid grey = demo.pyramid(params);
       int compared = 0, fractional = 0;
       for (size_t i = 0; i < keypoints.size(); ++i) {
-        const auto nb = selectNeighbourhood(frame, g, keypoints[i].pt, 30.0f, params.background_distance);
+        const auto nb = demo.neighbourhood(keypoints[i], params);
         if (!nb) continue;
         const float radius = 8.0f + 2.0f * static_cast<float>(i);
         const double theta = 0.37 * static_cast<double>(i) - 2.0;
-        std::vector<float> fast(static_cast<size_t>(encoder.dimension())), readable(fast.size());
-        const bool fast_ok = encoder.encode(grey, g, *nb, radius, theta, fast.data());
-        cv::setUseOptimized(false);
-        const bool readable_ok = encoder.encode(grey, g, *nb, radius, theta, readable.data());
-        cv::setUseOptimized(true);
-        ASSERT_EQ(fast_ok, readable_ok) << i;
-        if (!fast_ok) continue;
+        const auto [fast, readable] = onBothPaths([&] {
+          std::vector<float> histogram(static_cast<size_t>(encoder.dimension()));
+          if (!encoder.encode(grey, g, *nb, radius, theta, histogram.data())) histogram.clear();
+          return histogram;
+        });
+        ASSERT_EQ(fast.empty(), readable.empty()) << i;
+        if (fast.empty()) continue;
         ++compared;
         const float lambda = sampleLevel(radius, params, grey.levels);
         fractional += lambda != std::floor(lambda);
@@ -338,6 +374,7 @@ TEST(Descriptor, EncodingIsThePapersHistogramOnEveryPath) {
         EXPECT_GE(fractional, 10);
       }
     }
+  }
   }
 }
 
@@ -462,7 +499,7 @@ TEST(Orientation, GammaRuleRejectsShapelessAndPicksTheBranches) {
 
 // Without shape_orientation dominantOrientation gives the intensity
 // centroid; the descriptor replaces it with gradientOrientation when
-// gradient_orientation is set, below.
+// gradient_orientation is set (the default), below.
 TEST(Orientation, WithoutShapeOrientationThetaIsTheIntensityCentroidAndTheGammaRuleStillRejects) {
   const DescriptorParams defaults;
   ASSERT_FALSE(defaults.shape_orientation);
@@ -522,6 +559,32 @@ TEST(Orientation, GradientOrientationPointsUpTheRampAndIgnoresTheSilhouette) {
   GreyPyramid pyramid;
   buildGreyPyramid(flat.gray(), pyramidLevelsNeeded(params), pyramid);
   EXPECT_EQ(gradientOrientation(pyramid, g, *nb, 20.0f, params), 0.0);
+}
+
+// The kernel (kernels/gradient_orientation.cpp) against the readable rule
+// (cv::setUseOptimized(false)): keypoints of the demo scene, on texture,
+// curved surfaces and silhouettes, at several radii (whole and fractional
+// pyramid levels), one by the image's edge.
+TEST(Orientation, GradientOrientationKernelEqualsTheReadableRule) {
+  const DemoKeypoints demo(40);
+  const FrameGeometry& g = demo.geometry;
+  std::vector<cv::KeyPoint> keypoints = demo.keypoints;
+  keypoints.emplace_back(cv::Point2f(3.0f, 200.0f), 7.0f);
+  DescriptorParams params;
+  params.gradient_orientation = true;
+  const GreyPyramid grey = demo.pyramid(params);
+  int compared = 0, voted = 0;
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const auto nb = demo.neighbourhood(keypoints[i], params);
+    if (!nb) continue;
+    const float radius = 7.0f + 1.3f * static_cast<float>(i);
+    const auto [fast, readable] = onBothPaths([&] { return gradientOrientation(grey, g, *nb, radius, params); });
+    EXPECT_NEAR(std::remainder(fast - readable, 2.0 * CV_PI), 0.0, 1e-5) << "keypoint " << i << ", radius " << radius;
+    ++compared;
+    voted += readable != 0.0;
+  }
+  EXPECT_GE(compared, 35);
+  EXPECT_GE(voted, 30);
 }
 
 }  // namespace

@@ -121,9 +121,10 @@ TEST_F(InvarianceTest, SamplesReadAtTheirOwnScaleMatchAcrossAScaleChange) {
 // scale and holds theta (docs/evaluation.md, "The orientation across a
 // change of distance").
 TEST_F(InvarianceTest, GradientOrientationHoldsThetaAcrossAScaleChange) {
-  RisasParams gradient_params;
+  RisasParams centroid_params, gradient_params;
+  centroid_params.descriptor.gradient_orientation = false;
   gradient_params.descriptor.gradient_orientation = true;
-  const Risas gradient(gradient_params);
+  const Risas centroid_method(centroid_params), gradient(gradient_params);
   const auto thetaErrors = [&](const Risas& method) {
     std::vector<double> errors;
     for (double near_distance : {0.6, 0.8, 1.2}) {
@@ -147,7 +148,7 @@ TEST_F(InvarianceTest, GradientOrientationHoldsThetaAcrossAScaleChange) {
     std::sort(errors.begin(), errors.end());
     return errors;
   };
-  const std::vector<double> centroid = thetaErrors(risas), gradients = thetaErrors(gradient);
+  const std::vector<double> centroid = thetaErrors(centroid_method), gradients = thetaErrors(gradient);
   const auto share_above = [](const std::vector<double>& e, double degrees) {
     return static_cast<double>(std::count_if(e.begin(), e.end(), [&](double x) { return x > degrees; })) / e.size();
   };

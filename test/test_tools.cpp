@@ -53,10 +53,10 @@ TEST_F(Tools, ExtractWritesAFeaturesFile) {
   const ToolRun r = run("risas_extract" + frameArgs("", 1) + " --intrinsics " + file("camera-intrinsics.txt") +
                     " --out " + file("f.yml"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("192-d descriptors"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("64-d descriptors"), std::string::npos) << r.output;
   const Features f = readFeatures(file("f.yml"));
   EXPECT_GT(f.keypoints.size(), 100u);
-  EXPECT_EQ(f.descriptors.cols, 192);
+  EXPECT_EQ(f.descriptors.cols, 64);  // 8 sectors x 8 rank groups, no shape labels
   EXPECT_EQ(f.geometry.size(), f.keypoints.size());
 }
 

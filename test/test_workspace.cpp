@@ -58,8 +58,8 @@ TEST(Workspace, HoldsEveryStagesBuffersReusesThemAndIsFreedWithItsThread) {
   cv::setNumThreads(threads);
   // Geometry, normals (grid rows, bands), main normal, P's grid and image rows,
   // the eq. 1 kernel's stripe, the response, NMS, the grey pyramid, disc
-  // samples, histogram.
-  EXPECT_EQ(after_first, 12u);
+  // samples, histogram, the gradient orientation's grid.
+  EXPECT_EQ(after_first, 13u);
   EXPECT_EQ(after_second, after_first) << "a second frame made new buffers";
   EXPECT_EQ(live_inside, before + 1);
   EXPECT_EQ(Workspace::live(), before) << "the thread's workspace outlived it";

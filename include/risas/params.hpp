@@ -85,10 +85,14 @@ struct DescriptorParams {
   // Orientation eq. 6: when the second (third) eigenvalue exceeds gamma * e1.
   double gamma = 0.8;
   // Spatial sectors, intensity-rank groups and normal groups: the descriptor
-  // has n_pie * n_bin * (n_vec + 1) dimensions (8, 8, 2 -> 192).
+  // has n_pie * n_bin * (n_vec + 1) dimensions (8, 8, 0 -> 64; the
+  // paper's 8, 8, 2 -> 192). n_vec 0: no shape labels, every sample one
+  // label and rho_threshold unused. The default: the shape labels, on
+  // Kinect normals, differ between views of the same point and cost
+  // matches on every set measured (docs/evaluation.md, "The shape labels").
   int n_pie = 8;
   int n_bin = 8;
-  int n_vec = 2;
+  int n_vec = 0;
   // Rings of equal area the disc is cut into, each of n_pie sectors: the
   // spatial label is (ring, sector) and the descriptor n_ring times longer.
   // 1: the paper's sectors only.
@@ -143,9 +147,9 @@ struct DescriptorParams {
   // (gradientOrientation, SIFT's rule), which holds across a change of
   // distance; false, from the rank-weighted intensity centroid of the
   // frame's grey image (ORB's rule, on ranks), which turns with the fine
-  // texture a farther view no longer resolves, but costs nothing. Off by
-  // default for its cost, about 48 us a keypoint (docs/evaluation.md).
-  bool gradient_orientation = false;
+  // texture a farther view no longer resolves but costs nothing
+  // (docs/evaluation.md, "The orientation across a change of distance").
+  bool gradient_orientation = true;
 
   // The largest descriptor validate() accepts: 8 KB a keypoint. Far past it
   // a patch's few thousand samples leave nearly every bin empty, and one

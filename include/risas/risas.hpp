@@ -4,7 +4,7 @@
 //   risas::RgbdFrame frame(bgr, depth_mm, risas::Intrinsics(fx, fy, cx, cy));
 //   cv::Ptr<risas::Risas> risas = risas::Risas::create();
 //   std::vector<cv::KeyPoint> keypoints;
-//   cv::Mat descriptors;                      // N x 192 CV_32F, NORM_L2
+//   cv::Mat descriptors;                      // N x 64 CV_32F (the paper's n_vec: N x 192), NORM_L2
 //   std::vector<risas::KeypointGeometry> info; // 3D point, normal, radius
 //   risas->detectAndCompute(frame, cv::Mat(), keypoints, descriptors, &info);
 //

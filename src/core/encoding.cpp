@@ -141,15 +141,15 @@ bool PatchEncoder::encode(const GreyPyramid& grey, const FrameGeometry& geometry
 
   // Intensity label: the grey level's rank group among the counted samples;
   // shape label: the shape level's rank group among the non-flat ones, the
-  // flat ones n_vec.
+  // flat ones n_vec; with n_vec 0 no shape labels, every sample label 0.
   std::vector<uint16_t> greys, shapes;
   for (const SampleLevels& c : counted) {
     greys.push_back(static_cast<uint16_t>(c.grey));
     if (c.shape != kFlat) shapes.push_back(static_cast<uint16_t>(c.shape));
   }
-  std::vector<uint8_t> intensity_label, shape_rank;
+  std::vector<uint8_t> intensity_label, shape_rank(shapes.size(), 0);
   rankGroups(greys, 256, params_.n_bin, intensity_label);
-  rankGroups(shapes, kRhoLevels, params_.n_vec, shape_rank);
+  if (params_.n_vec > 0) rankGroups(shapes, kRhoLevels, params_.n_vec, shape_rank);
 
   // Soft binning's rank groups: each grey level's two nearest groups by its
   // mid-rank, and the upper one's weight.

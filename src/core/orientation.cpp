@@ -1,8 +1,13 @@
 #include "risas/orientation.hpp"
 
+#include "risas/orientation_histogram.hpp"
+
+#include "kernels/gradient_orientation.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <array>
@@ -20,25 +25,6 @@ Eigen::Vector2d projectDirection(const Eigen::Vector3d& d, const Eigen::Vector3d
 }
 
 double angleOf(const Eigen::Vector2d& d) { return std::atan2(d.y(), d.x()); }
-
-// gradientOrientation's histogram: 36 bins of 10 degrees, as SIFT's.
-constexpr int kOrientationBins = 36;
-using Histogram = std::array<double, kOrientationBins>;
-
-// Bin b of the circle, for b in [-kOrientationBins, 2 kOrientationBins).
-size_t wrapBin(int b) { return static_cast<size_t>(b < 0 ? b + kOrientationBins : b >= kOrientationBins ? b - kOrientationBins : b); }
-
-// How far, in samples, the pyramid's blur carries the background's grey
-// across a silhouette: twice the blur, rounded up. A gradient read there
-// points at the background, not along the surface's pattern.
-constexpr int kBlurReach = static_cast<int>(2.0 * kOrientationBlur + 0.999);
-
-// What a grid sample shows, from the depth at its nearest pixel.
-enum class SampleKind : unsigned char {
-  Counted,     // a normal, and foreground by eq. 5: as the encoder counts a sample
-  Uncounted,   // no depth or no normal: no vote, but its grey is the surface's or a hole's
-  Background,  // outside the image, or beyond t of k_i (eq. 5): its grey is not the surface's
-};
 
 // The disc's unrotated sample grid (patch_radius samples per radius), out
 // to one sample around the disc and kBlurReach beyond, row by row.
@@ -103,36 +89,6 @@ std::vector<char> clearOfTheBackground(const OrientationGrid& g) {
   return clear;
 }
 
-// Four passes of [1 2 1] / 4 around the circle, a binomial of about 14
-// degrees (OpenCV's SIFT smooths with two passes, VLFeat's with six of a
-// three-bin box): a corner's two edges each make a peak, and an unsmoothed
-// histogram's highest bin jumps between them with the noise.
-Histogram smoothed(Histogram histogram) {
-  for (int pass = 0; pass < 4; ++pass) {
-    Histogram next{};
-    for (int b = 0; b < kOrientationBins; ++b) {
-      next[wrapBin(b)] = 0.25 * (histogram[wrapBin(b - 1)] + 2.0 * histogram[wrapBin(b)] + histogram[wrapBin(b + 1)]);
-    }
-    histogram = next;
-  }
-  return histogram;
-}
-
-// The highest bin's angle, refined by the vertex of the parabola through it
-// and its two neighbours; radians in [0, 2 pi). 0 when all are zero.
-double peakAngle(const Histogram& histogram) {
-  int peak = 0;
-  for (int b = 1; b < kOrientationBins; ++b) {
-    if (histogram[wrapBin(b)] > histogram[wrapBin(peak)]) peak = b;
-  }
-  const double left = histogram[wrapBin(peak - 1)], centre = histogram[wrapBin(peak)],
-               right = histogram[wrapBin(peak + 1)];
-  if (!(centre > 0.0)) return 0.0;  // nothing voted: a flat patch
-  const double curvature = left - 2.0 * centre + right;
-  const double offset = curvature < 0.0 ? 0.5 * (left - right) / curvature : 0.0;
-  return (peak + 0.5 + offset) * (2.0 * CV_PI / kOrientationBins);
-}
-
 }  // namespace
 
 Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intrinsics, const DescriptorParams& params) {
@@ -172,9 +128,13 @@ Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intri
 
 double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& nb,
                            float radius_px, const DescriptorParams& params) {
+  if (cv::useOptimized() && gradientOrientationKernelFits(params)) {
+    return gradientOrientationKernel(grey, geometry, nb, radius_px, params);
+  }
+  // The readable rule, sample by sample.
   const int steps = params.patch_radius;
   const float spacing = radius_px / static_cast<float>(steps);
-  thread_local OrientationGrid g;  // reused: its buffers outlive the call
+  OrientationGrid g;
   fillOrientationGrid(grey, blurLevel(kOrientationBlur * spacing, grey.levels), geometry, nb, spacing, steps,
                       params.background_distance, g);
   const std::vector<char> clear = clearOfTheBackground(g);
@@ -186,7 +146,7 @@ double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometr
   // neighbours are counted too votes its gradient (central differences):
   // its magnitude times the Gaussian, into the two bins nearest its
   // direction.
-  Histogram histogram{};
+  OrientationHistogram histogram{};
   for (int j = -steps; j <= steps; ++j) {
     for (int i = -steps; i <= steps; ++i) {
       if (i * i + j * j > steps * steps || !clear[g.at(i, j)] || !counted(i, j) || !counted(i - 1, j) ||
@@ -196,16 +156,12 @@ double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometr
       const float gx = g.grey[g.at(i + 1, j)] - g.grey[g.at(i - 1, j)];
       const float gy = g.grey[g.at(i, j + 1)] - g.grey[g.at(i, j - 1)];
       if (gx == 0.0f && gy == 0.0f) continue;
-      const double weight =
-          std::hypot(gx, gy) * gaussian[static_cast<size_t>(i + steps)] * gaussian[static_cast<size_t>(j + steps)];
-      const double bin = cv::fastAtan2(gy, gx) / 360.0 * kOrientationBins - 0.5;  // bin b's centre at b + 0.5
-      const int below = static_cast<int>(std::floor(bin));
-      const double above_share = bin - below;
-      histogram[wrapBin(below)] += weight * (1.0 - above_share);
-      histogram[wrapBin(below + 1)] += weight * above_share;
+      const double weight = std::sqrt(gx * gx + gy * gy) * gaussian[static_cast<size_t>(i + steps)] *
+                            gaussian[static_cast<size_t>(j + steps)];
+      voteDirection(histogram, cv::fastAtan2(gy, gx), weight);
     }
   }
-  return peakAngle(smoothed(histogram));
+  return histogramPeak(histogram);
 }
 
 }  // namespace risas

@@ -119,7 +119,7 @@ risas::RisasParams params(Bytes& in) {
   p.detector.border = in.in(0, 12);
   p.descriptor.n_pie = in.in(1, 16);
   p.descriptor.n_bin = in.in(1, 16);
-  p.descriptor.n_vec = in.in(1, 8);
+  p.descriptor.n_vec = in.in(0, 8);
   p.descriptor.n_ring = in.in(1, 3);
   p.descriptor.rho_threshold = in.number(0.0, 1.0);
   p.descriptor.support_radius = in.number(0.0, 0.2);

@@ -2,6 +2,7 @@
 #include "synthetic_fixtures.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/params.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/ros/log_throttle.hpp"
 #include "risas/ros/reconfigure.hpp"
@@ -231,11 +232,12 @@ TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
   ASSERT_GT(f.keypoints.size(), 100u);
   const KeypointArrayPtr message = toMessage(f, m.rgb.header, m.info);
   EXPECT_EQ(message->descriptor_type, "RISAS");
-  EXPECT_EQ(message->descriptor_dim, 192u);
-  EXPECT_EQ(message->descriptors.size(), f.keypoints.size() * 192);
+  const int dimension = risas::RisasParams().descriptor.dimension();
+  EXPECT_EQ(message->descriptor_dim, static_cast<uint32_t>(dimension));
+  EXPECT_EQ(message->descriptors.size(), f.keypoints.size() * dimension);
   EXPECT_EQ(message->header.stamp, m.rgb.header.stamp);
   // The documented zero-copy view is the same matrix.
-  const cv::Mat view(static_cast<int>(message->keypoints.size()), 192, CV_32F, message->descriptors.data());
+  const cv::Mat view(static_cast<int>(message->keypoints.size()), dimension, CV_32F, message->descriptors.data());
   EXPECT_EQ(cv::norm(view, f.descriptors, cv::NORM_INF), 0.0);
 
   const risas::Features back = fromMessage(*message);

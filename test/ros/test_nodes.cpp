@@ -7,6 +7,7 @@
 //   Bag       bag.launch playing a bag written by risas_dataset_to_bag
 //   Transports risas_node, started here, asked for a lossy or missing transport
 //   NoDevice  the OpenNI2 camera node, started here, asked for a device that is not there
+#include "risas/params.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/synthetic_scene.hpp"
 
@@ -111,8 +112,9 @@ TEST_F(Pipeline, KeypointArraysCarryDescriptorsAndPointsConsistentWithDepth) {
   int checked_frames = 0;
   for (const auto& array : keypoints.messages()) {
     EXPECT_EQ(array->descriptor_type, "RISAS");
-    EXPECT_EQ(array->descriptor_dim, 192u);
-    EXPECT_EQ(array->descriptors.size(), array->keypoints.size() * 192);
+    const size_t dimension = risas::RisasParams().descriptor.dimension();  // config/risas.yaml's
+    EXPECT_EQ(array->descriptor_dim, dimension);
+    EXPECT_EQ(array->descriptors.size(), array->keypoints.size() * dimension);
     EXPECT_GT(array->keypoints.size(), 100u);
     EXPECT_EQ(array->header.frame_id, "camera_rgb_optical_frame");
     const auto same_stamp = std::find_if(depths.begin(), depths.end(),
@@ -510,7 +512,7 @@ TEST(Bag, EveryFrameOfTheBagComesOutAsAKeypointArray) {
       << keypoints.messages().size() << " of " << frames << " frames came out";
   const auto arrays = keypoints.messages();
   for (size_t i = 0; i < arrays.size(); ++i) {
-    EXPECT_EQ(arrays[i]->descriptor_dim, 192u);
+    EXPECT_EQ(arrays[i]->descriptor_dim, static_cast<uint32_t>(risas::RisasParams().descriptor.dimension()));
     EXPECT_GT(arrays[i]->keypoints.size(), 100u);
     EXPECT_EQ(arrays[i]->header.stamp, ros::Time(1.0e9) + ros::Duration(i / 5.0)) << "frame " << i;
   }

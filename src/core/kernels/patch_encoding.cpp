@@ -331,8 +331,9 @@ bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometr
   // Rank groups by counting sort: a sample's group depends only on its
   // level, so each level's group is tabulated once (the grey levels' in the
   // histogram functions).
-  uint8_t shape_label[kRhoLevels + 1];
-  rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
+  // With n_vec 0 there are no shape labels: every sample label 0.
+  uint8_t shape_label[kRhoLevels + 1] = {};
+  if (params.n_vec > 0) rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
   shape_label[kRhoLevels] = static_cast<uint8_t>(params.n_vec);
 
   const int n_shape = params.n_vec + 1;

@@ -40,7 +40,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("gamma", p.gamma, 0.0, 1.0);
   v("n_pie", p.n_pie, 1, 64);
   v("n_bin", p.n_bin, 1, 256);
-  v("n_vec", p.n_vec, 1, 64);
+  v("n_vec", p.n_vec, 0, 64);
   v("n_ring", p.n_ring, 1, 8);
   v("soft_binning", p.soft_binning);
   v("sample_blur", p.sample_blur, 0.0, 4.0);

@@ -11,10 +11,11 @@
 //                   factors, normals), NormalBuffers (the normals' grid cloud and
 //                   label images), the main normal's bins and P's grid inputs,
 //                   ResponseBuffers (P's grid and R), the NMS candidates, the
-//                   grey pyramid's coarse levels, the descriptor's disc samples
-//                   and histogram;
+//                   grey pyramid's coarse levels;
 //   every thread of cv::parallel_for_ (the caller among them)
-//                   the row buffers of the normals' bands and grid rows, of
+//                   the descriptor's disc samples, histogram and orientation
+//                   grid (OrientationBuffers, kernels/gradient_orientation.cpp),
+//                   and the row buffers of the normals' bands and grid rows, of
 //                   P's smoothing, and of the eq. 1 kernel (its window ring and
 //                   the grey and P rows).
 // Lifetime: made at the thread's first frame, freed when the thread ends
