@@ -225,17 +225,19 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
   // One name per parameter: the launch file's ~descriptor/n_bin, no ~n_bin.
   EXPECT_EQ(ros::param::param("/risas/descriptor/n_bin", 0), 16);
   EXPECT_FALSE(ros::param::has("/risas/n_bin"));
+  const risas::DescriptorParams defaults;
+  const uint32_t widened = static_cast<uint32_t>(defaults.n_ring * defaults.n_pie * 16 * (defaults.n_vec + 1));
   EXPECT_TRUE(keypoints.waitFor(
-      [](const auto& m) {
-        return std::count_if(m.begin(), m.end(), [](const auto& a) { return a->descriptor_dim == 8 * 16 * 3; }) >= 3;
+      [&](const auto& m) {
+        return std::count_if(m.begin(), m.end(), [&](const auto& a) { return a->descriptor_dim == widened; }) >= 3;
       },
       30.0))
-      << "descriptor_dim never became 384";
+      << "descriptor_dim never became " << widened;
   for (const auto& a : keypoints.messages()) EXPECT_EQ(a->descriptors.size(), a->keypoints.size() * a->descriptor_dim);
   // Across the change frames are not matched; after it, matching resumes.
   const ros::Time changed = [&] {
     for (const auto& a : keypoints.messages()) {
-      if (a->descriptor_dim == 384) return a->header.stamp;
+      if (a->descriptor_dim == widened) return a->header.stamp;
     }
     return ros::Time();
   }();
@@ -243,12 +245,12 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
       [&](const auto& m) { return std::any_of(m.begin(), m.end(), [&](const auto& t) { return t->header.stamp > changed; }); },
       30.0))
       << "no motion after the descriptor size changed";
-  // A descriptor over 2,048 dimensions is rejected, and the server says so by
-  // keeping its value.
-  const auto rejected = setIntParameter("/risas/descriptor", "n_bin", 256);
+  // A descriptor over 2,048 dimensions (8 x 16 x 65) is rejected, and the
+  // server says so by keeping its value.
+  const auto rejected = setIntParameter("/risas/descriptor", "n_vec", 64);
   ASSERT_TRUE(rejected);
-  EXPECT_EQ(intIn(*rejected, "n_bin"), 16);
-  EXPECT_EQ(ros::param::param("/risas/descriptor/n_bin", 0), 16);
+  EXPECT_EQ(intIn(*rejected, "n_vec"), defaults.n_vec);
+  EXPECT_EQ(ros::param::param("/risas/descriptor/n_vec", -1), defaults.n_vec);
   ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", 8));
 }
 
