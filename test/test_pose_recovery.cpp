@@ -24,6 +24,17 @@ Eigen::Isometry3d someMotion() {
   return test::pose({0.1, -0.02, 0.05}, Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.3, 1.0, 0.1).normalized()).toRotationMatrix());
 }
 
+// Each query point moved by truth into the reference frame, and the
+// matches between them, each the other's nearest at ratio 0.5 and correct.
+void exactMatches(const std::vector<cv::Point3f>& query, const Eigen::Isometry3d& truth,
+                  std::vector<cv::Point3f>& reference, std::vector<Candidate>& candidates) {
+  for (size_t i = 0; i < query.size(); ++i) {
+    const Eigen::Vector3d p = truth * Eigen::Vector3d(query[i].x, query[i].y, query[i].z);
+    reference.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    candidates.push_back({0.5, true, static_cast<int>(i), static_cast<int>(i)});
+  }
+}
+
 TEST(PoseRecovery, TheTruthHasNoErrorAndAKnownMistakeItsOwn) {
   const Eigen::Isometry3d truth = someMotion();
   const std::vector<cv::Point3f> points = gridOfPoints();
@@ -50,11 +61,7 @@ TEST(PoseRecovery, ExactMatchesGiveZeroErrorAndSuccess) {
   const std::vector<cv::Point3f> query = gridOfPoints();
   std::vector<cv::Point3f> reference;
   std::vector<Candidate> candidates;
-  for (size_t i = 0; i < query.size(); ++i) {
-    const Eigen::Vector3d p = truth * Eigen::Vector3d(query[i].x, query[i].y, query[i].z);
-    reference.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    candidates.push_back({0.5, true, static_cast<int>(i), static_cast<int>(i)});
-  }
+  exactMatches(query, truth, reference, candidates);
   candidates.push_back({0.95, false, 0, 5});  // above the ratio: not a match
   const PoseRecovery r = recoverPose(candidates, 0.8, query, reference, truth);
   EXPECT_EQ(r.matches, 20);
@@ -92,11 +99,7 @@ TEST(PoseRecovery, InlierSpreadIsSmallForPointsAlongALine) {
   const Eigen::Isometry3d truth = someMotion();
   std::vector<cv::Point3f> reference;
   std::vector<Candidate> candidates;
-  for (size_t i = 0; i < grid.size(); ++i) {
-    const Eigen::Vector3d p = truth * Eigen::Vector3d(grid[i].x, grid[i].y, grid[i].z);
-    reference.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    candidates.push_back({0.5, true, static_cast<int>(i), static_cast<int>(i)});
-  }
+  exactMatches(grid, truth, reference, candidates);
   const PoseRecovery r = recoverPose(candidates, 0.8, grid, reference, truth);
   ASSERT_TRUE(r.estimated);
   EXPECT_NEAR(r.inlier_spread_m, 0.05, 1e-6);

@@ -9,8 +9,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <vector>
 
