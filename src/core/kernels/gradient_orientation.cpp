@@ -74,9 +74,10 @@ struct OrientationBuffers {
   std::vector<float> level_grey;             // one row's values on the coarser level
   std::vector<SampleKind> kind;              // the grid, row by row
   std::vector<float> grey;
-  std::vector<uint64_t> background, reach;  // per row, a bit per column: Background; Background within reach in the row
+  std::vector<uint64_t> background, reach;   // a bit per column, per row: Background; Background within kBlurReach
   std::vector<float> gx, gy, degrees;
   std::vector<double> gaussian, weight;
+  int gaussian_radius = -1;                  // the disc radius gaussian was made for
 };
 
 // One row's kinds from its gathered values: Background outside the image
@@ -183,7 +184,7 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
   }
   b.on_surface.resize(columns);
   b.kind.resize(columns * columns);
-  b.grey.assign(columns * columns, 0.0f);
+  b.grey.resize(columns * columns);  // read only where written: counted samples within reach of the disc
 
   // Each row's kinds, and the grey of the rows and columns near the disc.
   const float kx = static_cast<float>(nb.point.x()), ky = static_cast<float>(nb.point.y()),
@@ -254,8 +255,11 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
 
   // The votes: gradients of the clear disc samples whose four neighbours
   // count, with their Gaussian weights; their directions in one call.
-  b.gaussian.resize(static_cast<size_t>(2 * n + 1));
-  for (int i = -n; i <= n; ++i) b.gaussian[static_cast<size_t>(i + n)] = std::exp(-0.5 * i * i / (n * n));
+  if (b.gaussian_radius != n) {  // made once for the thread's patch_radius
+    b.gaussian.resize(static_cast<size_t>(2 * n + 1));
+    for (int i = -n; i <= n; ++i) b.gaussian[static_cast<size_t>(i + n)] = std::exp(-0.5 * i * i / (n * n));
+    b.gaussian_radius = n;
+  }
   b.gx.clear(), b.gy.clear(), b.weight.clear();
   const auto at = [&](int i, int j) { return static_cast<size_t>((j + half) * side + (i + half)); };
   const auto counted = [&](size_t s) { return b.kind[s] == SampleKind::Counted; };
