@@ -24,7 +24,7 @@ while read -r name folder fx fy cx cy; do
     "$RISAS_BIN/risas_odometry" --tum "$tum/$folder" --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy" \
       --features "${run%_vo}" "${params[@]}" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv"
   done
-  python3 "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
+  "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
     "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \
     --out "$out/${name}.png"
 done <<'LIST'

@@ -179,9 +179,11 @@ class RisasNodelet : public nodelet::Nodelet {
       auto setup = std::make_shared<const Setup>(params);
       std::lock_guard<std::mutex> lock(setup_mutex_);
       setup_ = std::move(setup);
-      NODELET_INFO("reconfigured: tau %.2f, gamma %.2f, n_pie %d, n_bin %d, n_vec %d, n_ring %d (descriptor_dim %d)",
-                   params.detector.tau, params.descriptor.gamma, params.descriptor.n_pie, params.descriptor.n_bin,
-                   params.descriptor.n_vec, params.descriptor.n_ring, params.descriptor.dimension());
+      NODELET_INFO("reconfigured: tau %.2f, max_keypoints %d, gamma %.2f, n_pie %d, n_bin %d, n_vec %d, n_ring %d "
+                   "(descriptor_dim %d), gradient_orientation %d",
+                   params.detector.tau, params.detector.max_keypoints, params.descriptor.gamma,
+                   params.descriptor.n_pie, params.descriptor.n_bin, params.descriptor.n_vec, params.descriptor.n_ring,
+                   params.descriptor.dimension(), int(params.descriptor.gradient_orientation));
       return true;
     } catch (const std::invalid_argument& e) {
       NODELET_ERROR("reconfiguration rejected, parameters kept: %s", e.what());

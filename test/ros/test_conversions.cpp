@@ -292,8 +292,11 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
   const auto detector = expectCfgMatchesLibrary<risas::RisasDetectorConfig>(defaults.detector);
   const auto descriptor = expectCfgMatchesLibrary<risas::RisasDescriptorConfig>(defaults.descriptor);
   const auto match = expectCfgMatchesLibrary<risas::RisasMatchConfig>(defaults.match);
-  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints", "min_keypoints"}));
-  EXPECT_EQ(descriptor.size(), 7u);
+  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints", "min_keypoints",
+                                                "grid_cols", "grid_rows", "gray_sigma", "window_sigma"}));
+  EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "rho_threshold",
+                                                  "support_radius", "gradient_orientation", "soft_binning",
+                                                  "sample_blur"}));
   EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
 }
 
@@ -307,14 +310,21 @@ TEST(Reconfigure, ConfigsMapToTheirSectionsBothWays) {
   EXPECT_EQ(descriptor.n_bin, 16);
   EXPECT_EQ(descriptor.n_ring, 2);
   EXPECT_EQ(toConfig<risas::RisasDetectorConfig>(params.detector).tau, 0.25);
+  params.detector.grid_cols = 1;
+  EXPECT_EQ(toConfig<risas::RisasDetectorConfig>(params.detector).grid_cols, 1);
   EXPECT_TRUE(toConfig<risas::RisasMatchConfig>(params.match).cross_check);
 
   risas::RisasDescriptorConfig changed = descriptor;
   changed.n_vec = 3;
   changed.rho_threshold = 0.5;
+  changed.gradient_orientation = false;
+  changed.sample_blur = 1.25;
   const risas::DescriptorParams applied = applyConfig(changed, params.descriptor);
   EXPECT_EQ(applied.n_vec, 3);
   EXPECT_EQ(applied.rho_threshold, 0.5);
+  EXPECT_FALSE(applied.gradient_orientation);
+  EXPECT_EQ(applied.sample_blur, 1.25);
+  EXPECT_TRUE(applied.soft_binning);  // left as the config had it
   EXPECT_EQ(applied.n_bin, 16);
   EXPECT_EQ(applied.patch_radius, params.descriptor.patch_radius);  // not reconfigurable: kept
 }
