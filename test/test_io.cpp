@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -149,6 +150,37 @@ TEST(FrameFiles, LoadsPngPairsAndRejectsWrongDepthFiles) {
   EXPECT_THROW(loadRgbdFrame(dir.file("rgb.png"), dir.file("depth8.png"), syntheticIntrinsics()), InputError);
   EXPECT_THROW(loadRgbdFrame(dir.file("broken.png"), dir.file("depth.png"), syntheticIntrinsics()), InputError);
   EXPECT_THROW(loadRgbdFrame(dir.file("none.png"), dir.file("depth.png"), syntheticIntrinsics()), InputError);
+}
+
+TEST(FrameFiles, ReadsDepthInTheUnitsGiven) {
+  const TempDir dir;
+  const SyntheticRender r = SyntheticScene::demo().render(syntheticIntrinsics(), test::kVga, test::demoCamera());
+  cv::imwrite(dir.file("rgb.png"), r.bgr);
+  cv::imwrite(dir.file("depth_mm.png"), r.depth_mm);
+  cv::Mat tum_units;
+  r.depth_mm.convertTo(tum_units, CV_16U, 5.0);  // TUM RGB-D: 5000 a metre
+  cv::imwrite(dir.file("depth_tum.png"), tum_units);
+  const RgbdFrame mm = loadRgbdFrame(dir.file("rgb.png"), dir.file("depth_mm.png"), syntheticIntrinsics());
+  const RgbdFrame tum = loadRgbdFrame(dir.file("rgb.png"), dir.file("depth_tum.png"), syntheticIntrinsics(), 5000.0);
+  // The same metres, and the same holes (NaN compares unequal: count both).
+  EXPECT_EQ(cv::countNonZero(mm.depth() == mm.depth()), cv::countNonZero(tum.depth() == tum.depth()));
+  cv::Mat difference;
+  cv::absdiff(mm.depth(), tum.depth(), difference);
+  double largest = 0.0;
+  cv::minMaxLoc(difference, nullptr, &largest, nullptr, nullptr, mm.depth() == mm.depth());
+  EXPECT_LT(largest, 1e-6);
+  // Read as millimetres, the TUM file is five times too deep: why the unit is asked for.
+  const RgbdFrame misread = loadRgbdFrame(dir.file("rgb.png"), dir.file("depth_tum.png"), syntheticIntrinsics());
+  const cv::Point centre(test::kVga.width / 2, test::kVga.height / 2);
+  EXPECT_NEAR(misread.depth().at<float>(centre), 5.0f * mm.depth().at<float>(centre), 1e-3);
+
+  const cv::Mat values(2, 2, CV_16UC1, cv::Scalar(2500));
+  EXPECT_FLOAT_EQ(depthInUnits(values, 5000.0).at<float>(1, 1), 0.5f);
+  EXPECT_EQ(depthInUnits(values, kMillimetreDepthUnits).type(), CV_16UC1);  // RgbdFrame's millimetres as they are
+  for (double bad : {0.0, -1000.0, std::nan(""), double(INFINITY)}) {
+    EXPECT_THROW(depthInUnits(values, bad), InputError) << bad;
+    EXPECT_THROW(loadRgbdFrame(dir.file("rgb.png"), dir.file("depth_mm.png"), syntheticIntrinsics(), bad), InputError);
+  }
 }
 
 TEST(FeaturesFile, RoundTripsInYamlAndJson) {

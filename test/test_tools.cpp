@@ -2,6 +2,8 @@
 // sequence that risas_render_synthetic writes in the dataset's layout.
 #include "risas/io.hpp"
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,6 +68,28 @@ TEST_F(Tools, ExtractTakesIntrinsicsAsNumbersAndAParameterFile) {
                     file("p.yml") + " --out " + file("g.yml"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(readFeatures(file("g.yml")).descriptors.cols, 4 * 8 * 2);
+}
+
+TEST_F(Tools, ExtractReadsTumDepthUnits) {
+  cv::Mat depth_tum;
+  cv::imread(file("depth_1.png"), cv::IMREAD_UNCHANGED).convertTo(depth_tum, CV_16U, 5.0);  // 5000 a metre
+  cv::imwrite(file("depth_1_tum.png"), depth_tum);
+  const std::string common = " --rgb " + file("rgb_1.png") + " --intrinsics " + file("camera-intrinsics.txt");
+  ToolRun r = run("risas_extract" + common + " --depth " + file("depth_1.png") + " --out " + file("mm.yml"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run("risas_extract" + common + " --depth " + file("depth_1_tum.png") + " --depth-units 5000 --out " +
+          file("tum.yml"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Features mm = readFeatures(file("mm.yml")), tum = readFeatures(file("tum.yml"));
+  ASSERT_EQ(mm.keypoints.size(), tum.keypoints.size());
+  for (size_t i = 0; i < mm.keypoints.size(); ++i) {
+    EXPECT_EQ(mm.keypoints[i].pt, tum.keypoints[i].pt);
+    EXPECT_NEAR(cv::norm(mm.geometry[i].point - tum.geometry[i].point), 0.0, 1e-5);
+  }
+  r = run("risas_extract" + common + " --depth " + file("depth_1_tum.png") + " --depth-units 0 --out " +
+          file("bad.yml"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("depth units per metre must be positive"), std::string::npos) << r.output;
 }
 
 TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {

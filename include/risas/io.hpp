@@ -34,16 +34,29 @@ std::vector<SequenceFrame> listSequence(const std::string& dir);
 // keeps one at its root); InputError when there is none.
 Intrinsics findIntrinsics(const std::string& dir);
 
-// Colour (8-bit, read as BGR) and 16-bit millimetre depth images, as read:
-// InputError when a file is unreadable or the depth is not 16-bit.
+// Colour (8-bit, read as BGR) and 16-bit depth images, as read: InputError
+// when a file is unreadable or the depth is not 16-bit. The depth's unit is
+// the caller's to know: millimetres for OpenNI cameras, ROS 16UC1 and the
+// ManipulatorsDataset; a fifth of a millimetre for TUM RGB-D.
 struct RgbdImages {
   cv::Mat bgr;
   cv::Mat depth_mm;
 };
 RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path);
 
-// The same, validated into a frame.
-RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics);
+// 16-bit depth values per metre: millimetres, and TUM RGB-D's 5000.
+constexpr double kMillimetreDepthUnits = 1000.0;
+
+// A 16-bit depth image of `units_per_metre` values a metre as CV_32FC1
+// metres, 0 where it is 0 (missing), for RgbdFrame; millimetres (1000) are
+// returned as they are, which RgbdFrame takes as such. InputError unless
+// units_per_metre is positive and finite.
+cv::Mat depthInUnits(const cv::Mat& depth16, double units_per_metre);
+
+// The images, validated into a frame; the depth at `depth_units_per_metre`
+// (depthInUnits).
+RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
+                        double depth_units_per_metre = kMillimetreDepthUnits);
 
 // Nodes: descriptor_type ("RISAS"), keypoints (cv::write of the
 // std::vector<cv::KeyPoint>, 0-based pixels), descriptors (N x D CV_32F),

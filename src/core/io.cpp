@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -140,10 +141,22 @@ RgbdImages readRgbdImages(const std::string& color_path, const std::string& dept
   return images;
 }
 
-RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics) {
+cv::Mat depthInUnits(const cv::Mat& depth16, double units_per_metre) {
+  if (!(units_per_metre > 0.0 && std::isfinite(units_per_metre))) {
+    throw InputError("depth units per metre must be positive and finite (1000: millimetres; TUM RGB-D: 5000), got " +
+                     std::to_string(units_per_metre));
+  }
+  if (units_per_metre == kMillimetreDepthUnits) return depth16;
+  cv::Mat metres;
+  depth16.convertTo(metres, CV_32F, 1.0 / units_per_metre);
+  return metres;
+}
+
+RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
+                        double depth_units_per_metre) {
   const RgbdImages images = readRgbdImages(color_path, depth_path);
   try {
-    return RgbdFrame(images.bgr, images.depth_mm, intrinsics);
+    return RgbdFrame(images.bgr, depthInUnits(images.depth_mm, depth_units_per_metre), intrinsics);
   } catch (const InputError& e) {
     throw InputError(color_path + " + " + depth_path + ": " + e.what());
   }

@@ -190,9 +190,7 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
 
 TumImages readTumImages(const TumFrame& frame) {
   const RgbdImages images = readRgbdImages(frame.rgb, frame.depth);
-  TumImages tum{images.bgr, cv::Mat()};
-  images.depth_mm.convertTo(tum.depth_metres, CV_32F, 1.0 / kTumDepthUnitsPerMetre);
-  return tum;
+  return {images.bgr, depthInUnits(images.depth_mm, kTumDepthUnitsPerMetre)};
 }
 
 }  // namespace risas

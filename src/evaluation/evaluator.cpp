@@ -44,9 +44,7 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
 
 Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   const RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
-  cv::Mat depth = images.depth_mm;
-  if (paths.depth_units_per_metre != 1000.0) images.depth_mm.convertTo(depth, CV_32F, 1.0 / paths.depth_units_per_metre);
-  return {images.bgr, RgbdFrame(images.bgr, depth, intrinsics_)};
+  return {images.bgr, RgbdFrame(images.bgr, depthInUnits(images.depth_mm, paths.depth_units_per_metre), intrinsics_)};
 }
 
 std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {

@@ -94,6 +94,12 @@ std::vector<Option> intrinsicsOptions() {
           {"cy", "C", "principal point y in pixels"}};
 }
 
+Option depthUnitsOption() {
+  return {"depth-units", "N", "16-bit depth values a metre: 1000 = millimetres (default: OpenNI, ROS, the dataset), 5000 = TUM RGB-D"};
+}
+
+double depthUnitsFrom(const Args& args) { return args.getDouble("depth-units", kMillimetreDepthUnits); }
+
 Option paramsOption() { return {"params", "P.yml", "parameter file (cv::FileStorage; see config/risas.yaml)"}; }
 
 Intrinsics intrinsicsFrom(const Args& args) {

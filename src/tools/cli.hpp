@@ -44,8 +44,12 @@ class Args {
 Intrinsics intrinsicsFrom(const Args& args);
 // --params P.yml if given, else the defaults.
 RisasParams paramsFrom(const Args& args);
-// The options intrinsicsFrom and paramsFrom read, for a tool's option list.
+// --depth-units N if given (16-bit depth values a metre), else millimetres.
+double depthUnitsFrom(const Args& args);
+// The options intrinsicsFrom, depthUnitsFrom and paramsFrom read, for a
+// tool's option list.
 std::vector<Option> intrinsicsOptions();
+Option depthUnitsOption();
 Option paramsOption();
 
 // InputError unless `path` can be written: its folder exists and is

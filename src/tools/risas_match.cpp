@@ -34,15 +34,16 @@ int main(int argc, char** argv) {
     using risas::cli::Option;
     std::vector<Option> options = {
         {"rgb1", "R1.png", "first (reference) colour image"},
-        {"depth1", "D1.png", "first depth image (16-bit mm)"},
+        {"depth1", "D1.png", "first depth image (16-bit; millimetres unless --depth-units)"},
         {"rgb2", "R2.png", "second colour image"},
-        {"depth2", "D2.png", "second depth image (16-bit mm)"},
+        {"depth2", "D2.png", "second depth image (16-bit, as the first)"},
         {"overlay", "O.png", "write the side-by-side overlay here (first frame left)"},
         {"ratio", "r", "NNDR ratio (default: the parameter file's, 0.8)"},
         {"cross-check", "", "keep only mutual nearest neighbours"},
         {"gt-rotation", "R.txt", "ground-truth rotation (3x3) with p1 = R p2 + t, to score the matches"},
         {"gt-translation", "T.txt", "ground-truth translation (3x1, metres)"}};
     for (const Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
+    options.push_back(risas::cli::depthUnitsOption());
     options.push_back(risas::cli::paramsOption());
     const risas::cli::Args args(
         argc, argv,
@@ -57,8 +58,9 @@ int main(int argc, char** argv) {
     params.validate();
     if (args.has("overlay")) risas::cli::requireWritable(args.get("overlay"));
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
-    const risas::RgbdFrame frame1 = risas::loadRgbdFrame(args.get("rgb1"), args.get("depth1"), K);
-    const risas::RgbdFrame frame2 = risas::loadRgbdFrame(args.get("rgb2"), args.get("depth2"), K);
+    const double depth_units = risas::cli::depthUnitsFrom(args);
+    const risas::RgbdFrame frame1 = risas::loadRgbdFrame(args.get("rgb1"), args.get("depth1"), K, depth_units);
+    const risas::RgbdFrame frame2 = risas::loadRgbdFrame(args.get("rgb2"), args.get("depth2"), K, depth_units);
 
     const auto risas = risas::Risas::create(params);
     const risas::Features f1 = risas->extract(frame1), f2 = risas->extract(frame2);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "risas/intrinsics.hpp"
+#include "risas/io.hpp"
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -16,7 +17,7 @@ namespace risas::eval {
 struct FramePaths {
   std::string rgb;
   std::string depth;
-  double depth_units_per_metre = 1000.0;  // the dataset's millimetres; TUM: 5000
+  double depth_units_per_metre = kMillimetreDepthUnits;  // the dataset's; TUM: 5000
 };
 
 // Reference frame 1 against a query frame. For synthetic_rotate the query is
