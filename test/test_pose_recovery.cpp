@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace risas::eval {
 namespace {
 
@@ -165,6 +167,26 @@ TEST(PoseRecovery, RisasMatchesOfARenderedPairRecoverItsMotion) {
   ASSERT_TRUE(r.estimated);
   EXPECT_GT(r.inliers, 20);
   EXPECT_TRUE(r.within(2.0, 0.02)) << r.error.rotation_deg << " deg, " << r.error.alignment_m << " m";
+}
+
+TEST(PoseRecovery, DepthAgreementFavoursTheTrueMotionWithoutTheGroundTruth) {
+  // The demo scene from two poses 6 degrees apart: under the true motion
+  // the query's depth lands on the reference's; tilted a further 8 degrees
+  // about an axis across the view, or moved 10 cm along it, much of it
+  // does not; turned to look away, none of it lands.
+  const SyntheticScene scene = SyntheticScene::demo();
+  const Eigen::Isometry3d world_T_ref = SyntheticScene::demoCamera(0.0), world_T_query = SyntheticScene::demoCamera(6.0 * M_PI / 180.0);
+  const RgbdFrame ref = test::renderFrame(scene, world_T_ref), query = test::renderFrame(scene, world_T_query);
+  const Intrinsics K = ref.intrinsics();
+  const Eigen::Isometry3d truth = world_T_ref.inverse() * world_T_query;
+  const double agreement = depthAgreement(query.depth(), ref.depth(), K, truth);
+  EXPECT_GT(agreement, 0.95);
+  const Eigen::Isometry3d tilted = test::pose({0.0, 0.0, 0.0}, Eigen::AngleAxisd(8.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix()) * truth;
+  EXPECT_LT(depthAgreement(query.depth(), ref.depth(), K, tilted), agreement - 0.2);
+  const Eigen::Isometry3d along = test::pose({0.0, 0.0, 0.1}) * truth;
+  EXPECT_LT(depthAgreement(query.depth(), ref.depth(), K, along), agreement - 0.2);
+  const Eigen::Isometry3d away = test::pose({0.0, 0.0, 0.0}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix()) * truth;
+  EXPECT_TRUE(std::isnan(depthAgreement(query.depth(), ref.depth(), K, away)));
 }
 
 }  // namespace

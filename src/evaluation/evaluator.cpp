@@ -51,6 +51,10 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
   const LoadedFrame reference_frame = load(pair.reference), query_frame = load(pair.query);
   const cv::Mat& reference_depth = reference_frame.frame.depth();
   const cv::Mat& query_depth = query_frame.frame.depth();
+  // A rotated image's depth is the reference's: nothing to check there.
+  const bool depth_checkable = pair.image_rotation_deg == 0.0;
+  const double truth_agreement =
+      depth_checkable ? depthAgreement(query_depth, reference_depth, intrinsics_, pair.ref_T_query) : NAN;
   std::vector<PairResult> results;
   for (const auto& method : methods_) {
     const auto key = std::make_pair(method->name(), pair.reference.rgb);
@@ -88,6 +92,10 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     r.auc = prAuc(curve);
     r.at_ratio = atThreshold(curve, report_ratio_);
     r.pose = recoverPose(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query);
+    r.depth_agreement_truth = truth_agreement;
+    if (depth_checkable && r.pose.estimated) {
+      r.depth_agreement = depthAgreement(query_depth, reference_depth, intrinsics_, r.pose.estimate);
+    }
     results.push_back(std::move(r));
   }
   return results;

@@ -43,6 +43,28 @@ double inlierSpread(const std::vector<cv::Point3f>& points) {
   return std::sqrt(std::max(0.0, variances(1)));
 }
 
+double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
+                      const Eigen::Isometry3d& ref_T_query, double tolerance, int step) {
+  CV_Assert(query_depth.type() == CV_32FC1 && reference_depth.type() == CV_32FC1 && step > 0);
+  long landed = 0, agreeing = 0;
+  for (int v = 0; v < query_depth.rows; v += step) {
+    const float* depth = query_depth.ptr<float>(v);
+    for (int u = 0; u < query_depth.cols; u += step) {
+      const double z = depth[u];
+      if (!(z > 0.0)) continue;  // NaN: no depth
+      const Eigen::Vector3d p = ref_T_query * Eigen::Vector3d((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z);
+      if (p.z() <= 0.0) continue;
+      const long ur = std::lround(K.fx * p.x() / p.z() + K.cx), vr = std::lround(K.fy * p.y() / p.z() + K.cy);
+      if (ur < 0 || vr < 0 || ur >= reference_depth.cols || vr >= reference_depth.rows) continue;
+      const double z_reference = reference_depth.at<float>(static_cast<int>(vr), static_cast<int>(ur));
+      if (!(z_reference > 0.0)) continue;
+      ++landed;
+      if (std::abs(z_reference - p.z()) <= tolerance) ++agreeing;
+    }
+  }
+  return landed > 0 ? static_cast<double>(agreeing) / static_cast<double>(landed) : NAN;
+}
+
 MotionParams poseRecoveryRansac() {
   MotionParams p;
   p.inlier_threshold = 0.03;
@@ -64,6 +86,7 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
   r.estimated = m.valid;
   if (!m.valid) return r;
   r.inliers = m.num_inliers;
+  r.estimate = m.train_T_query;
   std::vector<cv::Point3f> inlier_points;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (m.inliers[i]) inlier_points.push_back(query_points[static_cast<size_t>(matches[i].queryIdx)]);

@@ -87,7 +87,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
   std::ofstream pairs = openFile(dir, "pairs.csv");
   pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
            "positives,pr_auc,precision,recall,correct,matches,ms_per_frame,pose_estimated,inliers,rotation_error_deg,"
-           "alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible,inlier_spread_m\n";
+           "alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible,inlier_spread_m,depth_agreement,"
+           "depth_agreement_truth\n";
   for (const PairResult& r : results) {
     pairs << r.pair.scene << "," << r.pair.sequence << "," << r.pair.label << "," << r.pair.step << "," << r.method
           << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
@@ -95,7 +96,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
           << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << ","
           << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
           << r.pose.error.alignment_m << "," << r.pose.within(5.0, 0.05) << "," << r.pose.within(2.0, 0.02) << ","
-          << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << "\n";
+          << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << ","
+          << r.depth_agreement << "," << r.depth_agreement_truth << "\n";
   }
 
   std::ofstream curves = openFile(dir, "curves.csv");

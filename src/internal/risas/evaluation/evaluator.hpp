@@ -8,6 +8,7 @@
 #include "risas/intrinsics.hpp"
 #include "risas/rgbd_frame.hpp"
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -26,6 +27,11 @@ struct PairResult {
   double auc = 0.0;
   PrPoint at_ratio;          // precision, recall, correct at the report ratio
   PoseRecovery pose;         // RANSAC on the matches at the report ratio
+  // depthAgreement of the estimate and of the ground truth (NaN without an
+  // estimate, and for synthetic_rotate, whose query depth is the
+  // reference's): an estimate that explains the depth better than the
+  // ground truth does, while missing it, says the ground truth is off.
+  double depth_agreement = NAN, depth_agreement_truth = NAN;
   double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
 };
 

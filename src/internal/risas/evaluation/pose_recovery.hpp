@@ -4,6 +4,7 @@
 #pragma once
 
 #include "risas/evaluation/metrics.hpp"
+#include "risas/intrinsics.hpp"
 #include "risas/motion.hpp"
 
 #include <Eigen/Geometry>
@@ -27,6 +28,7 @@ PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& 
 struct PoseRecovery {
   int matches = 0;         // at the ratio, the RANSAC's input
   bool estimated = false;  // RANSAC found at least min_inliers agreeing
+  Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();  // ref_T_query found (identity when none)
   int inliers = 0;
   // How far the inliers' query points spread across their longest direction
   // (metres; 0 when nothing was estimated): inlierSpread.
@@ -41,6 +43,17 @@ struct PoseRecovery {
 // lie along a line (or in one place), about which a rotation fitted to them
 // is then poorly determined, however many there are. 0 for fewer than 2.
 double inlierSpread(const std::vector<cv::Point3f>& points);
+
+// A check of a pose that needs no ground truth: the query frame's depth,
+// moved by ref_T_query into the reference camera, against the reference
+// frame's own. Of every `step`-th query pixel with depth that lands in the
+// reference image on a pixel with depth, the share within `tolerance`
+// metres of it. A pose off in tilt or along the view moves whole surfaces
+// off and lowers it; what only one camera sees lowers it alike for every
+// pose of a pair. NaN when no pixel lands. Depths: CV_32FC1 metres, NaN
+// where missing (RgbdFrame::depth).
+double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
+                      const Eigen::Isometry3d& ref_T_query, double tolerance = 0.05, int step = 2);
 
 // RANSAC of the report: 3 cm inlier distance, a fixed seed, otherwise
 // MotionParams' defaults.
