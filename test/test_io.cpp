@@ -175,10 +175,10 @@ TEST(FrameFiles, ReadsDepthInTheUnitsGiven) {
   EXPECT_NEAR(misread.depth().at<float>(centre), 5.0f * mm.depth().at<float>(centre), 1e-3);
 
   const cv::Mat values(2, 2, CV_16UC1, cv::Scalar(2500));
-  EXPECT_FLOAT_EQ(depthInUnits(values, 5000.0).at<float>(1, 1), 0.5f);
-  EXPECT_EQ(depthInUnits(values, kMillimetreDepthUnits).type(), CV_16UC1);  // RgbdFrame's millimetres as they are
+  EXPECT_FLOAT_EQ(depthFromUnits(values, 5000.0).at<float>(1, 1), 0.5f);
+  EXPECT_EQ(depthFromUnits(values, kMillimetreDepthUnits).type(), CV_16UC1);  // RgbdFrame's millimetres as they are
   for (double bad : {0.0, -1000.0, std::nan(""), double(INFINITY)}) {
-    EXPECT_THROW(depthInUnits(values, bad), InputError) << bad;
+    EXPECT_THROW(depthFromUnits(values, bad), InputError) << bad;
     EXPECT_THROW(loadRgbdFrame(dir.file("rgb.png"), dir.file("depth_mm.png"), syntheticIntrinsics(), bad), InputError);
   }
 }

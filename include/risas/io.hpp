@@ -51,10 +51,10 @@ constexpr double kMillimetreDepthUnits = 1000.0;
 // metres, 0 where it is 0 (missing), for RgbdFrame; millimetres (1000) are
 // returned as they are, which RgbdFrame takes as such. InputError unless
 // units_per_metre is positive and finite.
-cv::Mat depthInUnits(const cv::Mat& depth16, double units_per_metre);
+cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre);
 
 // The images, validated into a frame; the depth at `depth_units_per_metre`
-// (depthInUnits).
+// (depthFromUnits).
 RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
                         double depth_units_per_metre = kMillimetreDepthUnits);
 

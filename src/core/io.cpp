@@ -141,7 +141,7 @@ RgbdImages readRgbdImages(const std::string& color_path, const std::string& dept
   return images;
 }
 
-cv::Mat depthInUnits(const cv::Mat& depth16, double units_per_metre) {
+cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre) {
   if (!(units_per_metre > 0.0 && std::isfinite(units_per_metre))) {
     throw InputError("depth units per metre must be positive and finite (1000: millimetres; TUM RGB-D: 5000), got " +
                      std::to_string(units_per_metre));
@@ -156,7 +156,7 @@ RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_
                         double depth_units_per_metre) {
   const RgbdImages images = readRgbdImages(color_path, depth_path);
   try {
-    return RgbdFrame(images.bgr, depthInUnits(images.depth_mm, depth_units_per_metre), intrinsics);
+    return RgbdFrame(images.bgr, depthFromUnits(images.depth_mm, depth_units_per_metre), intrinsics);
   } catch (const InputError& e) {
     throw InputError(color_path + " + " + depth_path + ": " + e.what());
   }

@@ -190,7 +190,7 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
 
 TumImages readTumImages(const TumFrame& frame) {
   const RgbdImages images = readRgbdImages(frame.rgb, frame.depth);
-  return {images.bgr, depthInUnits(images.depth_mm, kTumDepthUnitsPerMetre)};
+  return {images.bgr, depthFromUnits(images.depth_mm, kTumDepthUnitsPerMetre)};
 }
 
 }  // namespace risas
