@@ -34,7 +34,7 @@ std::vector<std::unique_ptr<risas::eval::FeatureMethod>> studyMethods(const std:
   if (study == "bins") {
     for (int n_pie : {4, 8, 12}) {
       for (int n_bin : {8, 16}) {
-        for (int n_vec : {1, 2}) {
+        for (int n_vec : {0, 1, 2}) {  // 0: no shape labels (the default), 2: the paper's
           risas::RisasParams p = base;
           p.descriptor.n_pie = n_pie;
           p.descriptor.n_bin = n_bin;
