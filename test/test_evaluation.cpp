@@ -1,11 +1,14 @@
 // The evaluation protocol and metrics on hand-made cases with known answers,
 // and risas_evaluate end to end on a rendered sequence.
 #include "risas/errors.hpp"
+#include "risas/evaluation/evaluator.hpp"
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/metrics.hpp"
 #include "risas/evaluation/protocol.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include <cstdlib>
 #include <filesystem>
@@ -132,6 +135,25 @@ TEST(Methods, KnowsItsMethodsAndRejectsOthers) {
   EXPECT_THROW(makeMethod("SURF", RisasParams()), InputError);
 }
 
+TEST(Evaluator, AMissIsPreferredByTheDepthOnlyWhenItsPoseFitsClearlyBetter) {
+  PairResult r;
+  r.pose.estimated = true;
+  r.pose.error = {9.0, 0.04};  // missed: 9 degrees off
+  r.depth_agreement = 0.80;
+  r.depth_agreement_truth = 0.45;
+  EXPECT_TRUE(missPreferredByDepth(r));
+  r.depth_agreement = 0.47;  // better, but by less than kDepthPreference
+  EXPECT_FALSE(missPreferredByDepth(r));
+  r.depth_agreement = 0.80;
+  r.depth_agreement_truth = NAN;  // not checked (synthetic_rotate)
+  EXPECT_FALSE(missPreferredByDepth(r));
+  r.depth_agreement_truth = 0.45;
+  r.pose.error = {1.0, 0.01};  // not a miss
+  EXPECT_FALSE(missPreferredByDepth(r));
+  r.pose = PoseRecovery();  // no estimate: a miss the depth cannot judge
+  EXPECT_FALSE(missPreferredByDepth(r));
+}
+
 // risas_evaluate on three rendered frames in the dataset layout: exact poses,
 // so RISAS must find its correspondences; every report is written.
 TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
@@ -164,8 +186,8 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
     // scene .. ms_per_frame, then success at 5 deg / 5 cm and 2 deg / 2 cm,
-    // mean inliers, repeatability.
-    ASSERT_EQ(cells.size(), 14u) << line;
+    // mean inliers, repeatability, misses and those the depth prefers.
+    ASSERT_EQ(cells.size(), 16u) << line;
     EXPECT_EQ(cells[3], "2") << "two pairs per method";
     if (cells[2] != "RISAS") continue;
     risas_auc = std::stod(cells[4]);
@@ -175,6 +197,8 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     EXPECT_GT(std::stod(cells[12]), 20.0) << "mean inliers: " << line;
     EXPECT_GT(std::stod(cells[13]), 0.3) << "repeatability: " << line;
     EXPECT_LE(std::stod(cells[13]), 1.0) << line;
+    EXPECT_EQ(cells[14], "0") << "no miss on exact poses: " << line;
+    EXPECT_EQ(cells[15], "0") << line;
   }
   EXPECT_EQ(rows, havePcl() ? 3 : 2);
   EXPECT_GT(risas_auc, 0.3) << "RISAS on exact synthetic poses (measured 0.49; random descriptors give about 0)";

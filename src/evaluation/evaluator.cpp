@@ -47,6 +47,12 @@ Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   return {images.bgr, RgbdFrame(images.bgr, depthFromUnits(images.depth_mm, paths.depth_units_per_metre), intrinsics_)};
 }
 
+bool missPreferredByDepth(const PairResult& r) {
+  // NaN agreements compare false: no check, no preference.
+  return r.pose.estimated && !r.pose.within(5.0, 0.05) &&
+         r.depth_agreement >= r.depth_agreement_truth + kDepthPreference;
+}
+
 std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
   const LoadedFrame reference_frame = load(pair.reference), query_frame = load(pair.query);
   const cv::Mat& reference_depth = reference_frame.frame.depth();

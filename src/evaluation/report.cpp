@@ -2,6 +2,7 @@
 
 #include "risas/errors.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -19,6 +20,9 @@ struct Group {
     for (const PairResult* r : results) sum += f(*r);
     return results.empty() ? 0.0 : sum / results.size();
   }
+  long count(bool (*f)(const PairResult&)) const {
+    return std::count_if(results.begin(), results.end(), [&](const PairResult* r) { return f(*r); });
+  }
 };
 
 using Key = std::tuple<std::string, std::string, std::string>;  // scene, sequence, method
@@ -28,6 +32,7 @@ double success2(const PairResult& r) { return r.pose.within(2.0, 0.02) ? 1.0 : 0
 double inliers(const PairResult& r) { return r.pose.inliers; }
 double correct(const PairResult& r) { return r.at_ratio.correct; }
 double repeatability(const PairResult& r) { return r.repeatability.rate(); }
+bool missed(const PairResult& r) { return !r.pose.within(5.0, 0.05); }
 
 // Per scene: each method's pose success rates per sequence, and over all
 // the scene's pairs, with mean inliers and correct matches over them.
@@ -36,8 +41,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
   md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm), % of pairs\n\n| method |";
   for (const std::string& s : present) md << " " << s << " |";
   md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio
-     << " | keypoints | repeatability |\n|---|";
-  for (size_t i = 0; i < present.size() + 5; ++i) md << "---|";
+     << " | keypoints | repeatability | misses the depth prefers |\n|---|";
+  for (size_t i = 0; i < present.size() + 6; ++i) md << "---|";
   md << "\n";
   for (const std::string& m : methods) {
     Group all;
@@ -55,7 +60,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
     md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
        << all.mean(inliers) << " | " << all.mean(correct) << " | " << std::setprecision(0)
        << all.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << " | "
-       << std::setprecision(2) << all.mean(repeatability) << " |\n";
+       << std::setprecision(2) << all.mean(repeatability) << " | " << all.count(missPreferredByDepth) << " of "
+       << all.count(missed) << " |\n";
   }
   md << "\n";
 }
@@ -104,7 +110,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
   curves << "scene,sequence,method,ratio,precision,recall\n";
   std::ofstream summary = openFile(dir, "summary.csv");
   summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame,"
-             "success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability\n";
+             "success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability,misses,misses_preferred_by_depth\n";
   for (const auto& [key, group] : groups) {
     const auto& [scene, sequence, method] = key;
     std::vector<Candidate> pooled;
@@ -125,7 +131,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); }) << ","
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
             << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
-            << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << "\n";
+            << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << ","
+            << group.count(missed) << "," << group.count(missPreferredByDepth) << "\n";
   }
 
   std::ofstream scale = openFile(dir, "scale.csv");

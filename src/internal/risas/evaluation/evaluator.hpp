@@ -35,6 +35,13 @@ struct PairResult {
   double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
 };
 
+// A pair the method misses (not within 5 deg / 5 cm) although RANSAC found
+// a pose that fits the depth better than the ground truth does, by at least
+// kDepthPreference of the pixels: a sign that the ground truth, not the
+// method, is off there. False where the depth check could not be made.
+constexpr double kDepthPreference = 0.05;
+bool missPreferredByDepth(const PairResult& r);
+
 class Evaluator {
  public:
   // d_min: correctness distance (paper: 0.05 m); report_ratio: the NNDR at
