@@ -38,6 +38,16 @@ std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv
   return candidates;
 }
 
+std::optional<Landing> landInReference(const Eigen::Vector3d& query_point, const Eigen::Isometry3d& ref_T_query,
+                                       const Intrinsics& K, const cv::Mat& reference_depth_metres) {
+  const Eigen::Vector3d p = ref_T_query * query_point;
+  if (!(p.z() > 0.0)) return std::nullopt;
+  const double u = K.fx * p.x() / p.z() + K.cx, v = K.fy * p.y() / p.z() + K.cy;
+  const long iu = std::lround(u), iv = std::lround(v);
+  if (iu < 0 || iv < 0 || iu >= reference_depth_metres.cols || iv >= reference_depth_metres.rows) return std::nullopt;
+  return Landing{u, v, p.z(), reference_depth_metres.at<float>(static_cast<int>(iv), static_cast<int>(iu))};
+}
+
 Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points,
                                     const std::vector<cv::Point2f>& reference_pixels,
                                     const cv::Mat& reference_depth_metres, const Intrinsics& intrinsics,
@@ -53,16 +63,11 @@ Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points
   std::vector<Pairing> pairings;  // every visible query's reference keypoints within the tolerance
   for (size_t i = 0; i < query_points.size(); ++i) {
     const cv::Point3f& q = query_points[i];
-    const Eigen::Vector3d p = ref_T_query * Eigen::Vector3d(q.x, q.y, q.z);
-    if (!(p.z() > 0.0)) continue;
-    const double u = intrinsics.fx * p.x() / p.z() + intrinsics.cx, v = intrinsics.fy * p.y() / p.z() + intrinsics.cy;
-    const int iu = static_cast<int>(std::lround(u)), iv = static_cast<int>(std::lround(v));
-    if (iu < 0 || iv < 0 || iu >= reference_depth_metres.cols || iv >= reference_depth_metres.rows) continue;
-    const float z = reference_depth_metres.at<float>(iv, iu);
-    if (!(std::abs(z - p.z()) <= depth_tolerance)) continue;  // occluded, or no depth there
+    const auto landing = landInReference(Eigen::Vector3d(q.x, q.y, q.z), ref_T_query, intrinsics, reference_depth_metres);
+    if (!landing || !(std::abs(landing->depth_there - landing->depth) <= depth_tolerance)) continue;  // occluded, or no depth there
     ++r.visible;
     for (size_t j = 0; j < reference_pixels.size(); ++j) {
-      const double du = reference_pixels[j].x - u, dv = reference_pixels[j].y - v;
+      const double du = reference_pixels[j].x - landing->u, dv = reference_pixels[j].y - landing->v;
       if (du * du + dv * dv <= tol2) pairings.push_back({du * du + dv * dv, i, j});
     }
   }

@@ -50,16 +50,12 @@ double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth
   for (int v = 0; v < query_depth.rows; v += step) {
     const float* depth = query_depth.ptr<float>(v);
     for (int u = 0; u < query_depth.cols; u += step) {
-      const double z = depth[u];
-      if (!(z > 0.0)) continue;  // NaN: no depth
-      const Eigen::Vector3d p = ref_T_query * Eigen::Vector3d((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z);
-      if (p.z() <= 0.0) continue;
-      const long ur = std::lround(K.fx * p.x() / p.z() + K.cx), vr = std::lround(K.fy * p.y() / p.z() + K.cy);
-      if (ur < 0 || vr < 0 || ur >= reference_depth.cols || vr >= reference_depth.rows) continue;
-      const double z_reference = reference_depth.at<float>(static_cast<int>(vr), static_cast<int>(ur));
-      if (!(z_reference > 0.0)) continue;
+      if (!(depth[u] > 0.0f)) continue;  // NaN: no depth
+      const cv::Point3f q = K.backProject(static_cast<float>(u), static_cast<float>(v), depth[u]);
+      const auto landing = landInReference(Eigen::Vector3d(q.x, q.y, q.z), ref_T_query, K, reference_depth);
+      if (!landing || !(landing->depth_there > 0.0f)) continue;
       ++landed;
-      if (std::abs(z_reference - p.z()) <= tolerance) ++agreeing;
+      if (std::abs(landing->depth_there - landing->depth) <= tolerance) ++agreeing;
     }
   }
   return landed > 0 ? static_cast<double>(agreeing) / static_cast<double>(landed) : NAN;

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include <optional>
 #include <vector>
 
 namespace risas::eval {
@@ -38,6 +39,18 @@ std::vector<Candidate> nearestNeighbourCandidates(const cv::Mat& query, const cv
 // the recall's denominator.
 int countPositives(const std::vector<cv::Point3f>& query_points, const std::vector<cv::Point3f>& reference_points,
                    const Eigen::Isometry3d& ref_T_query, double d_min);
+
+// A query-frame point moved by ref_T_query into the reference camera and
+// projected there: its pixel, its depth along the reference view, and the
+// reference depth at the nearest pixel (NaN where the reference has none).
+// Nothing when it lies behind the camera or outside the image.
+struct Landing {
+  double u, v;         // reference pixel
+  double depth;        // of the moved point, metres
+  float depth_there;   // the reference depth image at (round(u), round(v))
+};
+std::optional<Landing> landInReference(const Eigen::Vector3d& query_point, const Eigen::Isometry3d& ref_T_query,
+                                       const Intrinsics& K, const cv::Mat& reference_depth_metres);
 
 // Detector repeatability under the ground truth: of the query keypoints
 // whose 3D point, moved into the reference camera by ref_T_query, projects
