@@ -136,22 +136,31 @@ TEST(Methods, KnowsItsMethodsAndRejectsOthers) {
 }
 
 TEST(Evaluator, AMissIsPreferredByTheDepthOnlyWhenItsPoseFitsClearlyBetter) {
-  PairResult r;
-  r.pose.estimated = true;
-  r.pose.error = {9.0, 0.04};  // missed: 9 degrees off
-  r.depth_agreement = 0.80;
-  r.depth_agreement_truth = 0.45;
-  EXPECT_TRUE(missPreferredByDepth(r));
-  r.depth_agreement = 0.47;  // better, but by less than kDepthPreference
-  EXPECT_FALSE(missPreferredByDepth(r));
-  r.depth_agreement = 0.80;
-  r.depth_agreement_truth = NAN;  // not checked (synthetic_rotate)
-  EXPECT_FALSE(missPreferredByDepth(r));
-  r.depth_agreement_truth = 0.45;
-  r.pose.error = {1.0, 0.01};  // not a miss
-  EXPECT_FALSE(missPreferredByDepth(r));
-  r.pose = PoseRecovery();  // no estimate: a miss the depth cannot judge
-  EXPECT_FALSE(missPreferredByDepth(r));
+  PoseRecovery pose;
+  pose.estimated = true;
+  pose.error = {9.0, 0.04};  // missed: 9 degrees off
+  EXPECT_TRUE(missPreferredByDepth(pose, 0.80, 0.45));
+  EXPECT_FALSE(missPreferredByDepth(pose, 0.47, 0.45));  // better, but by less than kDepthPreference
+  EXPECT_FALSE(missPreferredByDepth(pose, 0.80, NAN));   // not checked (synthetic_rotate)
+  pose.error = {1.0, 0.01};                              // not a miss
+  EXPECT_FALSE(missPreferredByDepth(pose, 0.80, 0.45));
+  EXPECT_FALSE(missPreferredByDepth(PoseRecovery(), 0.80, 0.45));  // no estimate: a miss the depth cannot judge
+}
+
+TEST(Evaluator, PoseSharesCountEachSeedOnce) {
+  // Four seeds: recovered closely, recovered at 3 degrees, missed where the
+  // depth prefers the estimate, missed without an estimate.
+  std::vector<PoseRecovery> poses(4);
+  for (int k = 0; k < 3; ++k) poses[static_cast<size_t>(k)].estimated = true;
+  poses[0].error = {0.5, 0.005};
+  poses[1].error = {3.0, 0.01};
+  poses[2].error = {9.0, 0.04};
+  const PoseShares shares = poseShares(poses, {0.9, 0.9, 0.8, NAN}, 0.45);
+  EXPECT_EQ(shares.recovered, 0.5);
+  EXPECT_EQ(shares.recovered_closely, 0.25);
+  EXPECT_EQ(shares.missed_preferred_by_depth, 0.25);
+  EXPECT_EQ(shares.missed(), 0.5);
+  EXPECT_EQ(poseShares({poses[2]}, {0.8}, NAN).missed_preferred_by_depth, 0.0);  // no truth to compare with
 }
 
 // risas_evaluate on three rendered frames in the dataset layout: exact poses,
@@ -192,7 +201,8 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     if (cells[2] != "RISAS") continue;
     risas_auc = std::stod(cells[4]);
     // Rendered frames 4 and 8 degrees from frame 1 with exact poses: the
-    // motion comes back from RISAS's matches on both pairs.
+    // motion comes back from RISAS's matches on both pairs, with each of the
+    // default 8 RANSAC seeds.
     EXPECT_EQ(std::stod(cells[10]), 1.0) << line;
     EXPECT_GT(std::stod(cells[12]), 20.0) << "mean inliers: " << line;
     EXPECT_GT(std::stod(cells[13]), 0.3) << "repeatability: " << line;
@@ -207,6 +217,7 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   }
   // Wrong usage and missing data fail clearly.
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ransac-seeds 0 > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + (root / "none").string() + " > /dev/null 2>&1").c_str()), 0);
   fs::remove_all(root);
 }

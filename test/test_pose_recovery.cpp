@@ -82,6 +82,41 @@ TEST(PoseRecovery, ExactMatchesGiveZeroErrorAndSuccess) {
   EXPECT_FALSE(none.within(180.0, 1e9));
 }
 
+// 10 exact matches among 100, the rest pointing at random places: an
+// all-inlier sample is about one draw in 1400, so within RANSAC's 2000
+// draws whether one comes up is luck, and the seeds differ.
+TEST(PoseRecovery, SeedsDrawOtherSamplesFromTheSameMatches) {
+  const Eigen::Isometry3d truth = someMotion();
+  std::vector<cv::Point3f> query = gridOfPoints(), reference;
+  query.resize(10);
+  std::vector<Candidate> candidates;
+  exactMatches(query, truth, reference, candidates);
+  cv::RNG rng(7);
+  for (int i = 0; i < 90; ++i) {
+    const int index = static_cast<int>(query.size());
+    query.emplace_back(rng.uniform(-0.5f, 0.5f), rng.uniform(-0.4f, 0.4f), rng.uniform(0.8f, 1.8f));
+    reference.emplace_back(rng.uniform(-0.5f, 0.5f), rng.uniform(-0.4f, 0.4f), rng.uniform(0.8f, 1.8f));
+    candidates.push_back({0.7, false, index, index});
+  }
+  const std::vector<PoseRecovery> poses = recoverPoseOverSeeds(candidates, 0.8, query, reference, truth, 32);
+  ASSERT_EQ(poses.size(), 32u);
+  const PoseRecovery first = recoverPose(candidates, 0.8, query, reference, truth);  // poseRecoveryRansac()'s seed
+  EXPECT_EQ(poses[0].estimated, first.estimated);
+  EXPECT_EQ(poses[0].inliers, first.inliers);
+  EXPECT_TRUE(poses[0].estimate.isApprox(first.estimate));
+  int recovered = 0;
+  for (const PoseRecovery& pose : poses) {
+    EXPECT_EQ(pose.matches, 100);
+    if (!pose.recovered()) continue;
+    ++recovered;
+    EXPECT_EQ(pose.inliers, 10);
+    EXPECT_TRUE(pose.recoveredClosely());
+  }
+  EXPECT_GT(recovered, 0) << "no seed found the 10 inliers";
+  EXPECT_LT(recovered, 32) << "every seed found them: the case does not show the luck";
+  EXPECT_THROW(recoverPoseOverSeeds(candidates, 0.8, query, reference, truth, 0), cv::Exception);
+}
+
 TEST(PoseRecovery, InlierSpreadIsSmallForPointsAlongALine) {
   // 21 points 1 cm apart along x: the spread across the line is 0, and
   // moved 1 cm off it alternately in y, 1 cm (the points' standard

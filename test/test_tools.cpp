@@ -92,6 +92,50 @@ TEST_F(Tools, ExtractReadsTumDepthUnits) {
   EXPECT_NE(r.output.find("depth units per metre must be positive"), std::string::npos) << r.output;
 }
 
+// The last number on the benchmark's line that starts with `stage`.
+double benchmarkColumn(const std::string& output, const std::string& stage) {
+  const size_t at = output.find("\n" + stage);
+  if (at == std::string::npos) return -1.0;
+  const std::string line = output.substr(at + 1, output.find('\n', at + 1) - at - 1);
+  return std::stod(line.substr(line.find_last_of(' ') + 1));
+}
+
+TEST_F(Tools, BenchmarkTimesTheSameFramesFromEitherLayout) {
+  // The two rendered frames as a TUM RGB-D folder: depth in 5000 units a metre.
+  const fs::path tum = dir / "tum";
+  fs::create_directories(tum / "rgb");
+  fs::create_directories(tum / "depth");
+  std::ofstream rgb_list(tum / "rgb.txt"), depth_list(tum / "depth.txt");
+  for (int k = 1; k <= 2; ++k) {
+    const std::string name = std::to_string(k) + ".png";
+    fs::copy_file(file("rgb_" + name), tum / "rgb" / name, fs::copy_options::overwrite_existing);
+    cv::Mat depth;
+    cv::imread(file("depth_" + name), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
+    cv::imwrite((tum / "depth" / name).string(), depth);
+    rgb_list << k << ".0 rgb/" << name << "\n";
+    depth_list << k << ".001 depth/" << name << "\n";
+  }
+  rgb_list.close();
+  depth_list.close();
+  const ToolRun from_data = run("risas_benchmark --data " + dir.string() + " --frames 2 --repeats 1");
+  ASSERT_EQ(from_data.exit_code, 0) << from_data.output;
+  const ToolRun from_tum = run("risas_benchmark --tum " + tum.string() + " --intrinsics " +
+                               file("camera-intrinsics.txt") + " --frames 2 --repeats 1");
+  ASSERT_EQ(from_tum.exit_code, 0) << from_tum.output;
+  EXPECT_NE(from_tum.output.find("2 frame(s) 640x480 from " + tum.string()), std::string::npos) << from_tum.output;
+  // The same frames and depth: the same keypoints, ORB's too.
+  const double keypoints = benchmarkColumn(from_data.output, "RISAS total");
+  EXPECT_GT(keypoints, 50.0) << from_data.output;
+  EXPECT_EQ(benchmarkColumn(from_tum.output, "RISAS total"), keypoints) << from_tum.output;
+  EXPECT_EQ(benchmarkColumn(from_tum.output, "OpenCV ORB"), benchmarkColumn(from_data.output, "OpenCV ORB"));
+  // Without intrinsics, or with both sources, a one-line usage error.
+  ToolRun r = run("risas_benchmark --tum " + tum.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run("risas_benchmark --tum " + tum.string() + " --data " + dir.string() + " --fx 500 --fy 500 --cx 320 --cy 240");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("not both"), std::string::npos) << r.output;
+}
+
 TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {
   const ToolRun r = run("risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + " --intrinsics " +
                     file("camera-intrinsics.txt") + " --overlay " + file("overlay.png") + " --gt-rotation " +

@@ -10,8 +10,14 @@
 namespace risas::eval {
 
 Evaluator::Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min,
-                     double report_ratio)
-    : methods_(std::move(methods)), intrinsics_(intrinsics), d_min_(d_min), report_ratio_(report_ratio) {}
+                     double report_ratio, int ransac_seeds)
+    : methods_(std::move(methods)),
+      intrinsics_(intrinsics),
+      d_min_(d_min),
+      report_ratio_(report_ratio),
+      ransac_seeds_(ransac_seeds) {
+  if (ransac_seeds < 1) throw InputError("ransac_seeds must be at least 1, got " + std::to_string(ransac_seeds));
+}
 
 Evaluator::Processed Evaluator::process(const FeatureMethod& method, const LoadedFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
@@ -47,10 +53,24 @@ Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   return {images.bgr, RgbdFrame(images.bgr, depthFromUnits(images.depth_mm, paths.depth_units_per_metre), intrinsics_)};
 }
 
-bool missPreferredByDepth(const PairResult& r) {
+bool missPreferredByDepth(const PoseRecovery& pose, double agreement, double truth_agreement) {
   // NaN agreements compare false: no check, no preference.
-  return r.pose.estimated && !r.pose.within(5.0, 0.05) &&
-         r.depth_agreement >= r.depth_agreement_truth + kDepthPreference;
+  return pose.estimated && !pose.recovered() && agreement >= truth_agreement + kDepthPreference;
+}
+
+PoseShares poseShares(const std::vector<PoseRecovery>& poses, const std::vector<double>& agreements,
+                      double truth_agreement) {
+  CV_Assert(!poses.empty() && agreements.size() == poses.size());
+  PoseShares shares;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    shares.recovered += poses[k].recovered();
+    shares.recovered_closely += poses[k].recoveredClosely();
+    shares.missed_preferred_by_depth += missPreferredByDepth(poses[k], agreements[k], truth_agreement);
+  }
+  for (double* share : {&shares.recovered, &shares.recovered_closely, &shares.missed_preferred_by_depth}) {
+    *share /= static_cast<double>(poses.size());
+  }
+  return shares;
 }
 
 std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
@@ -97,11 +117,18 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     const std::vector<PrPoint> curve = prCurve(r.candidates, r.positives);
     r.auc = prAuc(curve);
     r.at_ratio = atThreshold(curve, report_ratio_);
-    r.pose = recoverPose(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query);
-    r.depth_agreement_truth = truth_agreement;
-    if (depth_checkable && r.pose.estimated) {
-      r.depth_agreement = depthAgreement(query_depth, reference_depth, intrinsics_, r.pose.estimate);
+    const std::vector<PoseRecovery> poses =
+        recoverPoseOverSeeds(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, ransac_seeds_);
+    // The depth check: the first seed's pose, reported, and every miss.
+    std::vector<double> agreements;
+    for (size_t k = 0; k < poses.size(); ++k) {
+      const bool checked = depth_checkable && poses[k].estimated && (k == 0 || !poses[k].recovered());
+      agreements.push_back(checked ? depthAgreement(query_depth, reference_depth, intrinsics_, poses[k].estimate) : NAN);
     }
+    r.pose = poses.front();
+    r.depth_agreement = agreements.front();
+    r.depth_agreement_truth = truth_agreement;
+    r.shares = poseShares(poses, agreements, truth_agreement);
     results.push_back(std::move(r));
   }
   return results;

@@ -61,10 +61,11 @@ double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth
   return landed > 0 ? static_cast<double>(agreeing) / static_cast<double>(landed) : NAN;
 }
 
-MotionParams poseRecoveryRansac() {
+MotionParams poseRecoveryRansac(int seed_index) {
+  CV_Assert(seed_index >= 0);
   MotionParams p;
   p.inlier_threshold = 0.03;
-  p.seed = 0x5eed;
+  p.seed = 0x5eed + static_cast<unsigned int>(seed_index);
   return p;
 }
 
@@ -90,6 +91,18 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
   r.inlier_spread_m = inlierSpread(inlier_points);
   r.error = poseError(m.train_T_query, ref_T_query, query_points);
   return r;
+}
+
+std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
+                                               const std::vector<cv::Point3f>& query_points,
+                                               const std::vector<cv::Point3f>& reference_points,
+                                               const Eigen::Isometry3d& ref_T_query, int seeds) {
+  CV_Assert(seeds >= 1);
+  std::vector<PoseRecovery> poses;
+  for (int k = 0; k < seeds; ++k) {
+    poses.push_back(recoverPose(candidates, ratio, query_points, reference_points, ref_T_query, poseRecoveryRansac(k)));
+  }
+  return poses;
 }
 
 }  // namespace risas::eval

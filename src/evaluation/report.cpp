@@ -3,6 +3,7 @@
 #include "risas/errors.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -15,24 +16,31 @@ namespace {
 
 struct Group {
   std::vector<const PairResult*> results;
-  double mean(double (*f)(const PairResult&)) const {
-    double sum = 0.0;
-    for (const PairResult* r : results) sum += f(*r);
-    return results.empty() ? 0.0 : sum / results.size();
+  double sum(double (*f)(const PairResult&)) const {
+    double total = 0.0;
+    for (const PairResult* r : results) total += f(*r);
+    return total;
   }
-  long count(bool (*f)(const PairResult&)) const {
-    return std::count_if(results.begin(), results.end(), [&](const PairResult* r) { return f(*r); });
-  }
+  double mean(double (*f)(const PairResult&)) const { return results.empty() ? 0.0 : sum(f) / results.size(); }
 };
 
 using Key = std::tuple<std::string, std::string, std::string>;  // scene, sequence, method
 
-double success5(const PairResult& r) { return r.pose.within(5.0, 0.05) ? 1.0 : 0.0; }
-double success2(const PairResult& r) { return r.pose.within(2.0, 0.02) ? 1.0 : 0.0; }
+double success5(const PairResult& r) { return r.shares.recovered; }
+double success2(const PairResult& r) { return r.shares.recovered_closely; }
 double inliers(const PairResult& r) { return r.pose.inliers; }
 double correct(const PairResult& r) { return r.at_ratio.correct; }
 double repeatability(const PairResult& r) { return r.repeatability.rate(); }
-bool missed(const PairResult& r) { return !r.pose.within(5.0, 0.05); }
+double missed(const PairResult& r) { return r.shares.missed(); }
+double missedPreferredByDepth(const PairResult& r) { return r.shares.missed_preferred_by_depth; }
+
+// A sum of shares: a whole number as one (one seed), else to a tenth.
+std::string count(double sum) {
+  std::ostringstream out;
+  const double tenths = std::round(sum * 10.0);
+  out << std::fixed << std::setprecision(std::fmod(tenths, 10.0) == 0.0 ? 0 : 1) << tenths / 10.0;
+  return out.str();
+}
 
 // Per scene: each method's pose success rates per sequence, and over all
 // the scene's pairs, with mean inliers and correct matches over them.
@@ -60,8 +68,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
     md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
        << all.mean(inliers) << " | " << all.mean(correct) << " | " << std::setprecision(0)
        << all.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << " | "
-       << std::setprecision(2) << all.mean(repeatability) << " | " << all.count(missPreferredByDepth) << " of "
-       << all.count(missed) << " |\n";
+       << std::setprecision(2) << all.mean(repeatability) << " | " << count(all.sum(missedPreferredByDepth)) << " of "
+       << count(all.sum(missed)) << " |\n";
   }
   md << "\n";
 }
@@ -101,7 +109,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
           << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
           << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << ","
           << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
-          << r.pose.error.alignment_m << "," << r.pose.within(5.0, 0.05) << "," << r.pose.within(2.0, 0.02) << ","
+          << r.pose.error.alignment_m << "," << success5(r) << "," << success2(r) << ","
           << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << ","
           << r.depth_agreement << "," << r.depth_agreement_truth << "\n";
   }
@@ -132,7 +140,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
             << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
             << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << ","
-            << group.count(missed) << "," << group.count(missPreferredByDepth) << "\n";
+            << count(group.sum(missed)) << "," << count(group.sum(missedPreferredByDepth)) << "\n";
   }
 
   std::ofstream scale = openFile(dir, "scale.csv");

@@ -9,6 +9,7 @@
 #include "risas/io.hpp"
 #include "risas/risas.hpp"
 #include "risas/synthetic_scene.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <opencv2/features2d.hpp>
 
@@ -28,6 +29,21 @@ std::vector<risas::RgbdFrame> loadSequence(const std::string& dir, int max_frame
     frames.push_back(risas::loadRgbdFrame(f.rgb_path, f.depth_path, K));
   }
   if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir);
+  return frames;
+}
+
+// `max_frames` frames spread evenly over a TUM RGB-D recording (its
+// neighbouring frames are nearly the same image): the first, the last and
+// those between.
+std::vector<risas::RgbdFrame> loadTumSequence(const std::string& dir, const risas::Intrinsics& K, int max_frames) {
+  const risas::TumSequence sequence = risas::readTumSequence(dir);
+  const size_t available = sequence.frames.size(), count = std::min(available, static_cast<size_t>(max_frames));
+  std::vector<risas::RgbdFrame> frames;
+  for (size_t i = 0; i < count; ++i) {
+    const size_t index = count == 1 ? 0 : i * (available - 1) / (count - 1);
+    const risas::TumImages images = risas::readTumImages(sequence.frames[index]);
+    frames.emplace_back(images.bgr, images.depth_metres, K);
+  }
   return frames;
 }
 
@@ -58,22 +74,31 @@ double timeMs(int repeats, const std::function<void()>& work) {
 
 int main(int argc, char** argv) {
   return risas::cli::runTool("risas_benchmark", [&] {
+    std::vector<risas::cli::Option> options = {
+        {"data", "DIR", "a sequence folder with rgb_k.png/depth_k.png (camera-intrinsics.txt in it or above)"},
+        {"tum", "DIR", "instead of --data: a TUM RGB-D folder (rgb.txt, depth.txt), frames spread over it"},
+        {"frames", "N", "frames to time (default 5)"},
+        {"repeats", "N", "runs per frame, the median counts (default 3)"},
+        {"threads", "N", "OpenCV threads (default 1: single-threaded; 0: all cores)"},
+        risas::cli::paramsOption()};
+    for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_benchmark [--data SEQUENCE_DIR] [--frames 5] [--repeats 3] [--threads 1] [--params P.yml]\n"
-        "Times each RISAS stage per 640x480 frame beside OpenCV ORB (1000 features) and SIFT\n"
-        "on the same frames. Without --data it renders synthetic frames.",
-        {{"data", "DIR", "a sequence folder with rgb_k.png/depth_k.png (camera-intrinsics.txt in it or above)"},
-         {"frames", "N", "frames to time (default 5)"},
-         {"repeats", "N", "runs per frame, the median counts (default 3)"},
-         {"threads", "N", "OpenCV threads (default 1: single-threaded; 0: all cores)"},
-         risas::cli::paramsOption()});
+        "risas_benchmark --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--frames 5] ...\n"
+        "Times each RISAS stage per frame beside OpenCV ORB (1000 features) and SIFT on the\n"
+        "same frames. Without --data or --tum it renders synthetic frames.",
+        options);
     const int count = args.getInt("frames", 5), repeats = args.getInt("repeats", 3);
     const int threads = args.getInt("threads", 1);
     if (count < 1 || repeats < 1) throw risas::cli::UsageError("--frames and --repeats must be at least 1");
     cv::setNumThreads(threads == 0 ? -1 : threads);
+    if (args.has("data") && args.has("tum")) throw risas::cli::UsageError("give --data or --tum, not both");
     const std::vector<risas::RgbdFrame> frames =
-        args.has("data") ? loadSequence(args.get("data"), count) : syntheticSequence(count);
+        args.has("tum")    ? loadTumSequence(args.get("tum"), risas::cli::intrinsicsFrom(args), count)
+        : args.has("data") ? loadSequence(args.get("data"), count)
+                           : syntheticSequence(count);
+    const std::string source = args.has("tum") ? args.get("tum") : args.get("data", "the synthetic scene");
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const auto risas = risas::Risas::create(params);
     // The stages one by one, as Risas runs them (its inside, from the library's internal headers).
@@ -104,7 +129,7 @@ int main(int argc, char** argv) {
     const double n = static_cast<double>(frames.size());
     const double orb_per_frame = orb_ms / n;
     std::cout << "risas_benchmark: " << frames.size() << " frame(s) " << frames[0].size().width << "x"
-              << frames[0].size().height << " from " << (args.has("data") ? args.get("data") : "the synthetic scene")
+              << frames[0].size().height << " from " << source
               << ", " << cv::getNumThreads() << " thread(s), median of " << repeats << " runs, OpenCV "
               << CV_VERSION << "\n\n";
     std::cout << std::left << std::setw(26) << "stage" << std::right << std::setw(12) << "ms/frame" << std::setw(10)

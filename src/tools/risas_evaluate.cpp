@@ -79,19 +79,21 @@ int main(int argc, char** argv) {
         {"sequences", "LIST", "sequences (default: " + all_sequences + ")"},
         {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
         {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec) or tau"},
+        {"ransac-seeds", "N", "pose recovery with N RANSAC seeds, success as the share of them (default: 8)"},
         {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
-        "               [--pairs LABEL,...] [--study bins|tau] [--params P.yml] [--no-plots]\n"
+        "               [--pairs LABEL,...] [--study bins|tau] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
-        "               [--pair-stride N] [--out DIR] [--methods M,...] [--params P.yml] [--no-plots]\n"
+        "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
         "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"
         "agree within 5 cm under the ground truth; PR curves, PR-AUC, precision, recall and\n"
         "correct matches at ratio 0.8; the rigid motion RANSAC recovers from those matches and its\n"
-        "error (success within 5 deg / 5 cm and 2 deg / 2 cm), per pair, sequence and scene.\n"
+        "error (success within 5 deg / 5 cm and 2 deg / 2 cm, the share of the RANSAC seeds), per\n"
+        "pair, sequence and scene.\n"
         "Writes pairs.csv, curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
         options);
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
@@ -134,7 +136,9 @@ int main(int argc, char** argv) {
     }
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
-    risas::eval::Evaluator evaluator(std::move(methods), intrinsics);
+    const int ransac_seeds = args.getInt("ransac-seeds", 8);
+    if (ransac_seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
+    risas::eval::Evaluator evaluator(std::move(methods), intrinsics, 0.05, 0.8, ransac_seeds);
     std::vector<risas::eval::PairResult> results;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const risas::eval::Pair& pair = pairs[i];

@@ -16,6 +16,17 @@
 
 namespace risas::eval {
 
+// A pair's pose recovery over the RANSAC seeds (Evaluator's ransac_seeds):
+// the share of the seeds with which the pose was recovered (5 deg / 5 cm),
+// recovered closely (2 deg / 2 cm), and missed in a way the depth prefers
+// (missPreferredByDepth). One seed gives 0 or 1, one draw of RANSAC's luck
+// as a VO front end sees it; several give the chance of recovering the pose
+// from these matches.
+struct PoseShares {
+  double recovered = 0.0, recovered_closely = 0.0, missed_preferred_by_depth = 0.0;
+  double missed() const { return 1.0 - recovered; }
+};
+
 struct PairResult {
   Pair pair;
   std::string method;
@@ -26,28 +37,38 @@ struct PairResult {
   std::vector<Candidate> candidates;
   double auc = 0.0;
   PrPoint at_ratio;          // precision, recall, correct at the report ratio
-  PoseRecovery pose;         // RANSAC on the matches at the report ratio
-  // depthAgreement of the estimate and of the ground truth (NaN without an
-  // estimate, and for synthetic_rotate, whose query depth is the
+  PoseRecovery pose;         // RANSAC on the matches at the report ratio, the first seed
+  // depthAgreement of the first seed's estimate and of the ground truth (NaN
+  // without an estimate, and for synthetic_rotate, whose query depth is the
   // reference's): an estimate that explains the depth better than the
   // ground truth does, while missing it, says the ground truth is off.
   double depth_agreement = NAN, depth_agreement_truth = NAN;
+  PoseShares shares;         // over every seed
   double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
 };
 
-// A pair the method misses (not within 5 deg / 5 cm) although RANSAC found
-// a pose that fits the depth better than the ground truth does, by at least
-// kDepthPreference of the pixels: a sign that the ground truth, not the
-// method, is off there. False where the depth check could not be made.
+// A pose that misses (not within 5 deg / 5 cm) although RANSAC found one
+// that fits the depth better than the ground truth does (depthAgreement
+// `agreement` against `truth_agreement`), by at least kDepthPreference of the
+// pixels: a sign that the ground truth, not the method, is off there. False
+// where the depth check could not be made (NaN).
 constexpr double kDepthPreference = 0.05;
-bool missPreferredByDepth(const PairResult& r);
+bool missPreferredByDepth(const PoseRecovery& pose, double agreement, double truth_agreement);
+
+// The shares of `poses` (one per RANSAC seed, at least one) recovered,
+// recovered closely and missed in a way the depth prefers; agreements[k] is
+// poses[k]'s depthAgreement (NaN where not checked).
+PoseShares poseShares(const std::vector<PoseRecovery>& poses, const std::vector<double>& agreements,
+                      double truth_agreement);
 
 class Evaluator {
  public:
   // d_min: correctness distance (paper: 0.05 m); report_ratio: the NNDR at
-  // which precision, recall and correct matches are reported (0.8).
+  // which precision, recall and correct matches are reported (0.8);
+  // ransac_seeds: how many RANSAC seeds each pair's pose recovery runs with
+  // (PoseShares; at least 1, else InputError).
   Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min = 0.05,
-            double report_ratio = 0.8);
+            double report_ratio = 0.8, int ransac_seeds = 1);
 
   // Every method on the pair; a reference frame shared by several pairs is
   // processed once per method. InputError for unreadable frames.
@@ -70,16 +91,20 @@ class Evaluator {
   std::vector<std::unique_ptr<FeatureMethod>> methods_;
   Intrinsics intrinsics_;
   double d_min_, report_ratio_;
+  int ransac_seeds_;
   std::map<std::pair<std::string, std::string>, Processed> reference_cache_;  // (method, rgb path)
 };
 
 // Reports, written into `dir`:
-//   pairs.csv     one row per pair and method
+//   pairs.csv     one row per pair and method: the pose columns are the
+//                 first seed's, the success columns the shares over all
 //   curves.csv    per scene, sequence and method: the PR curve of all its pairs pooled
 //   summary.csv   per scene, sequence and method: mean PR-AUC, precision,
 //                 recall and correct matches at the report ratio, pose
-//                 success rates at 5 deg / 5 cm and 2 deg / 2 cm, mean
-//                 inliers, detector repeatability (3 px), ms/frame
+//                 success rates at 5 deg / 5 cm and 2 deg / 2 cm (the
+//                 pairs' PoseShares averaged), mean inliers, detector
+//                 repeatability (3 px), ms/frame, misses and the misses
+//                 the depth prefers (sums of the pairs' shares)
 //   summary.md    per scene type two markdown tables: mean PR-AUC (the best
 //                 of each sequence in bold), and pose recovery
 //   scale.csv     correct-match percentage (correct / matches) per scale step

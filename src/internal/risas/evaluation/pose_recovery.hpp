@@ -37,6 +37,10 @@ struct PoseRecovery {
   bool within(double degrees, double metres) const {
     return estimated && error.rotation_deg <= degrees && error.alignment_m <= metres;
   }
+  // The report's two criteria: the pose recovered within 5 deg / 5 cm, and
+  // closely, within 2 deg / 2 cm.
+  bool recovered() const { return within(5.0, 0.05); }
+  bool recoveredClosely() const { return within(2.0, 0.02); }
 };
 
 // The second principal standard deviation of the points: near 0 when they
@@ -56,8 +60,9 @@ double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth
                       const Eigen::Isometry3d& ref_T_query, double tolerance = 0.05, int step = 2);
 
 // RANSAC of the report: 3 cm inlier distance, a fixed seed, otherwise
-// MotionParams' defaults.
-MotionParams poseRecoveryRansac();
+// MotionParams' defaults. With `seed_index` k > 0 the same with the k-th
+// further seed: the same matches, other random samples.
+MotionParams poseRecoveryRansac(int seed_index = 0);
 
 // The candidates with ratio <= `ratio` as matches, their rigid motion by
 // RANSAC, scored against ref_T_query.
@@ -65,5 +70,14 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
                          const MotionParams& ransac = poseRecoveryRansac());
+
+// recoverPose once with each of the first `seeds` RANSAC seeds
+// (poseRecoveryRansac(0 .. seeds - 1)), in that order. Where the inliers are
+// few among the matches, whether RANSAC draws an all-inlier sample in time
+// is luck; the seeds' outcomes show how much.
+std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
+                                               const std::vector<cv::Point3f>& query_points,
+                                               const std::vector<cv::Point3f>& reference_points,
+                                               const Eigen::Isometry3d& ref_T_query, int seeds);
 
 }  // namespace risas::eval
