@@ -281,9 +281,10 @@ TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
 // The texture-poor case on Kinect-like depth (quantised, noisy, no
 // depth at silhouettes): an untextured, lit box on a floor. The threshold
 // relative to the frame's largest response, which lies on the silhouette,
-// leaves the frame 1-3 keypoints; the defaults' floor (min_keypoints) gives
-// it its keypoints back, at the box's corners among them, and they reappear
-// at the same 3D points in a view 20 degrees around the box. (They do not
+// leaves the frame a handful of keypoints (6; 1-3 with dp_sigma 3); the
+// defaults' floor (min_keypoints) gives it its keypoints back, at the box's
+// corners among them, and they reappear at the same 3D points in a view 20
+// degrees around the box. (They do not
 // yet match well: 2 of 37 matches are right there, docs/evaluation.md.)
 TEST(Detector, FloorKeepsAnUntexturedBoxOnKinectDepthDescribed) {
   UntexturedBox box;
@@ -307,7 +308,7 @@ TEST(Detector, FloorKeepsAnUntexturedBoxOnKinectDepthDescribed) {
   RisasParams threshold_only;
   threshold_only.detector.min_keypoints = 0;
   const Features collapsed = Risas(threshold_only).extract(a);
-  EXPECT_LE(collapsed.keypoints.size(), 5u);
+  EXPECT_LE(collapsed.keypoints.size(), 10u);  // against the floor's 150
 
   const Risas risas;
   const Features fa = risas.extract(a), fb = risas.extract(b);

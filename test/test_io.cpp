@@ -82,7 +82,7 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_EQ(paper.descriptor.n_vec, 2);  // the shape labels
   RisasParams expected;  // the defaults with those fields changed, and no other
   expected.geometry.normal_stride = 1;
-  expected.detector.gray_sigma = 0.7, expected.detector.dp_sigma = 5.0, expected.detector.window_sigma = 1.0;
+  expected.detector.gray_sigma = 0.7, expected.detector.window_sigma = 1.0;
   expected.detector.nms_radius = 1, expected.detector.min_keypoints = 0;
   expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
   expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;

@@ -49,8 +49,8 @@ struct DetectorParams {
   double harris_k = 0.04;
   // Gaussian pre-blur of the grey image (ref: 0.7 px).
   double gray_sigma = 1.0;
-  // Gaussian smoothing of the dot-product image (ref: 5 px).
-  double dp_sigma = 3.0;
+  // Gaussian smoothing of the dot-product image (px; the ref's 5).
+  double dp_sigma = 5.0;
   // Gaussian window w(x, y) of eq. 1 (ref: 1 px).
   double window_sigma = 1.5;
   // Keep responses above this fraction of the frame's largest response (ref: 0.001).

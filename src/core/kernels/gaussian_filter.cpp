@@ -52,6 +52,8 @@ void symmetricWindow(const float* const* taps, const float* half, Radius radius,
 template void symmetricWindow(const float* const*, const float*, int, int, float*);
 template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultWindowRadius>,
                               int, float*);
+template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultDotProductRadius>,
+                              int, float*);
 template void symmetricWindow(const float* const*, const float*, std::integral_constant<int, kDefaultGrayRadius>,
                               int, float*);
 
@@ -83,7 +85,7 @@ void BlurredRows::filterAlong(int v, float* out) {
     row[-t] = row[borderIndex(-t, cols, border_)];
     row[cols - 1 + t] = row[borderIndex(cols - 1 + t, cols, border_)];
   }
-  withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
+  withDefault<kDefaultWindowRadius, kDefaultDotProductRadius, kDefaultGrayRadius>(
       radius, [&](auto fixed_radius) { symmetricWindow(along_taps_.data(), half_.data(), fixed_radius, cols, out); });
 }
 
@@ -97,7 +99,7 @@ const float* BlurredRows::row(int v) {
       const int source = borderIndex(v + t - radius, rows, border_);
       column_taps_[static_cast<size_t>(t)] = along_.row(source, [&](int i, float* o) { filterAlong(i, o); });
     }
-    withDefault<kDefaultWindowRadius, kDefaultGrayRadius>(
+    withDefault<kDefaultWindowRadius, kDefaultDotProductRadius, kDefaultGrayRadius>(
         radius, [&](auto fixed_radius) {
           symmetricWindow(column_taps_.data(), half_.data(), fixed_radius, src_->cols, out);
         });

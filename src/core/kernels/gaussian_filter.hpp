@@ -19,9 +19,9 @@ cv::Size gaussianSize(double sigma);
 std::vector<float> gaussianHalfKernel(double sigma);
 
 // The radii of the defaults, which have compiled loops (withDefault):
-// window_sigma 1.5, and dp_sigma 3 on the normals' default stride 2 (1.5 on
-// their grid), have radius 5; gray_sigma 1 has radius 3.
-constexpr int kDefaultWindowRadius = 5, kDefaultGrayRadius = 3;
+// window_sigma 1.5 has radius 5; dp_sigma 5 on the normals' default stride 2
+// (2.5 on their grid) radius 8; gray_sigma 1 radius 3.
+constexpr int kDefaultWindowRadius = 5, kDefaultDotProductRadius = 8, kDefaultGrayRadius = 3;
 
 // cv::borderInterpolate for the two borders the filters use
 // (cv::BORDER_REPLICATE and cv::BORDER_REFLECT_101), inline: the filters ask
