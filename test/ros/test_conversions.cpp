@@ -293,7 +293,8 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
   const auto descriptor = expectCfgMatchesLibrary<risas::RisasDescriptorConfig>(defaults.descriptor);
   const auto match = expectCfgMatchesLibrary<risas::RisasMatchConfig>(defaults.match);
   EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints", "min_keypoints",
-                                                "grid_cols", "grid_rows", "gray_sigma", "window_sigma"}));
+                                                "grid_cols", "grid_rows", "gray_sigma", "dp_sigma",
+                                                "window_sigma"}));
   EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "rho_threshold",
                                                   "support_radius", "gradient_orientation", "soft_binning",
                                                   "sample_blur"}));
