@@ -34,8 +34,8 @@ double repeatability(const PairResult& r) { return r.repeatability.rate(); }
 double missed(const PairResult& r) { return r.shares.missed(); }
 double missedPreferredByDepth(const PairResult& r) { return r.shares.missed_preferred_by_depth; }
 
-// A sum of shares: a whole number as one (one seed), else to a tenth.
-std::string count(double sum) {
+// A sum of shares as text: a whole number as one (one seed), else to a tenth.
+std::string sumText(double sum) {
   std::ostringstream out;
   const double tenths = std::round(sum * 10.0);
   out << std::fixed << std::setprecision(std::fmod(tenths, 10.0) == 0.0 ? 0 : 1) << tenths / 10.0;
@@ -68,8 +68,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
     md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
        << all.mean(inliers) << " | " << all.mean(correct) << " | " << std::setprecision(0)
        << all.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << " | "
-       << std::setprecision(2) << all.mean(repeatability) << " | " << count(all.sum(missedPreferredByDepth)) << " of "
-       << count(all.sum(missed)) << " |\n";
+       << std::setprecision(2) << all.mean(repeatability) << " | " << sumText(all.sum(missedPreferredByDepth)) << " of "
+       << sumText(all.sum(missed)) << " |\n";
   }
   md << "\n";
 }
@@ -140,7 +140,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
             << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
             << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << ","
-            << count(group.sum(missed)) << "," << count(group.sum(missedPreferredByDepth)) << "\n";
+            << sumText(group.sum(missed)) << "," << sumText(group.sum(missedPreferredByDepth)) << "\n";
   }
 
   std::ofstream scale = openFile(dir, "scale.csv");

@@ -97,6 +97,8 @@ int main(int argc, char** argv) {
         "Writes pairs.csv, curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
         options);
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
+    const int ransac_seeds = args.getInt("ransac-seeds", 8);
+    if (ransac_seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
     const bool tum = args.has("tum");
     if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
@@ -136,9 +138,8 @@ int main(int argc, char** argv) {
     }
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
-    const int ransac_seeds = args.getInt("ransac-seeds", 8);
-    if (ransac_seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
-    risas::eval::Evaluator evaluator(std::move(methods), intrinsics, 0.05, 0.8, ransac_seeds);
+    risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
+                                     risas::eval::kReportRatio, ransac_seeds);
     std::vector<risas::eval::PairResult> results;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const risas::eval::Pair& pair = pairs[i];
@@ -150,7 +151,7 @@ int main(int argc, char** argv) {
       }
       std::cout << "\n";
     }
-    risas::eval::writeReports(out, results, 0.8);
+    risas::eval::writeReports(out, results, risas::eval::kReportRatio);
     std::cout << "\nPR-AUC (mean per sequence) and pose recovery; details in " << out << "/summary.csv\n\n";
     std::ifstream summary(std::filesystem::path(out) / "summary.md");
     std::cout << summary.rdbuf();

@@ -61,14 +61,19 @@ bool missPreferredByDepth(const PoseRecovery& pose, double agreement, double tru
 PoseShares poseShares(const std::vector<PoseRecovery>& poses, const std::vector<double>& agreements,
                       double truth_agreement);
 
+// The paper's correctness distance (a match is correct when its 3D points
+// agree within it under the ground truth) and the NNDR at which precision,
+// recall, correct matches and the pose are reported.
+constexpr double kCorrectDistance = 0.05, kReportRatio = 0.8;
+
 class Evaluator {
  public:
-  // d_min: correctness distance (paper: 0.05 m); report_ratio: the NNDR at
-  // which precision, recall and correct matches are reported (0.8);
-  // ransac_seeds: how many RANSAC seeds each pair's pose recovery runs with
-  // (PoseShares; at least 1, else InputError).
-  Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min = 0.05,
-            double report_ratio = 0.8, int ransac_seeds = 1);
+  // d_min: correctness distance (metres); report_ratio: the NNDR at which
+  // precision, recall and correct matches are reported; ransac_seeds: how
+  // many RANSAC seeds each pair's pose recovery runs with (PoseShares; at
+  // least 1, else InputError).
+  Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics,
+            double d_min = kCorrectDistance, double report_ratio = kReportRatio, int ransac_seeds = 1);
 
   // Every method on the pair; a reference frame shared by several pairs is
   // processed once per method. InputError for unreadable frames.
