@@ -75,6 +75,29 @@ TEST(Metrics, NearestNeighbourRatiosAndPositives) {
   EXPECT_THROW(nearestNeighbourCandidates(query, reference, cv::NORM_L2, {}, ref_points, I, 0.05), InputError);
 }
 
+TEST(Metrics, DistinctCorrectMatchesCountEachImagePointOnce) {
+  // Queries 0-2 are one corner reported three times (as at three pyramid
+  // levels, within 3 px of each other), all matched correctly; query 3 a
+  // second point, correct; query 4 a third, wrong; query 5 a fourth point,
+  // correct but above the ratio; query 6 lies apart in the query image but
+  // matches the first corner's reference keypoint again.
+  const std::vector<cv::Point2f> query = {{100, 100}, {101.5f, 100}, {100, 102.9f}, {200, 50}, {300, 300}, {50, 400},
+                                          {400, 400}};
+  const std::vector<cv::Point2f> reference = {{110, 100}, {111, 101}, {112, 100}, {210, 50}, {20, 20}, {60, 400}};
+  const std::vector<Candidate> candidates = {{0.6, true, 0, 0}, {0.3, true, 1, 1}, {0.5, true, 2, 2}, {0.7, true, 3, 3},
+                                             {0.2, false, 4, 4}, {0.9, true, 5, 5}, {0.4, true, 6, 1}};
+  EXPECT_EQ(atThreshold(prCurve(candidates, 6), 0.8).correct, 5);
+  EXPECT_EQ(distinctCorrectMatches(candidates, query, reference, 0.8), 2);  // the corner once, query 3
+  EXPECT_EQ(distinctCorrectMatches(candidates, query, reference, 1.0), 3);  // and query 5
+  // The lowest ratio among a point's copies is the one taken: at 0.35 only
+  // query 1 has passed of the corner's.
+  EXPECT_EQ(distinctCorrectMatches(candidates, query, reference, 0.35), 1);
+  // 1 px apart is the same point; 4 px apart two, at the 3 px tolerance.
+  EXPECT_EQ(distinctCorrectMatches({{0.1, true, 0, 0}, {0.2, true, 1, 1}}, {{0, 0}, {4, 0}}, {{0, 0}, {4, 0}}, 0.8), 2);
+  EXPECT_EQ(distinctCorrectMatches({{0.1, true, 0, 0}, {0.2, true, 1, 1}}, {{0, 0}, {1, 0}}, {{0, 0}, {5, 0}}, 0.8), 1);
+  EXPECT_EQ(distinctCorrectMatches({}, {}, {}, 0.8), 0);
+}
+
 TEST(Protocol, KeypointDepthIsTheMedianOfTheValid3x3) {
   cv::Mat depth(5, 5, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
   depth.at<float>(1, 1) = 1.0f;
@@ -194,21 +217,31 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    // scene .. ms_per_frame, then success at 5 deg / 5 cm and 2 deg / 2 cm,
-    // mean inliers, repeatability, misses and those the depth prefers.
-    ASSERT_EQ(cells.size(), 16u) << line;
+    // scene .. recall, correct and distinct correct matches, keypoints,
+    // ms_per_frame, then success at 5 deg / 5 cm and 2 deg / 2 cm, mean
+    // inliers, repeatability, misses and those the depth prefers.
+    ASSERT_EQ(cells.size(), 17u) << line;
     EXPECT_EQ(cells[3], "2") << "two pairs per method";
+    const double correct = std::stod(cells[7]), distinct = std::stod(cells[8]);
+    EXPECT_LE(distinct, correct) << line;
+    if (cells[2] == "ORB") {
+      // ORB finds many corners again at its coarser pyramid levels, a few
+      // pixels from where level 0 found them: fewer distinct points.
+      EXPECT_LT(distinct, 0.8 * correct) << line;
+    }
     if (cells[2] != "RISAS") continue;
     risas_auc = std::stod(cells[4]);
+    // RISAS's non-maximum suppression (5x5) keeps its keypoints apart.
+    EXPECT_GT(distinct, 0.9 * correct) << line;
     // Rendered frames 4 and 8 degrees from frame 1 with exact poses: the
     // motion comes back from RISAS's matches on both pairs, with each of the
     // default 8 RANSAC seeds.
-    EXPECT_EQ(std::stod(cells[10]), 1.0) << line;
-    EXPECT_GT(std::stod(cells[12]), 20.0) << "mean inliers: " << line;
-    EXPECT_GT(std::stod(cells[13]), 0.3) << "repeatability: " << line;
-    EXPECT_LE(std::stod(cells[13]), 1.0) << line;
-    EXPECT_EQ(cells[14], "0") << "no miss on exact poses: " << line;
-    EXPECT_EQ(cells[15], "0") << line;
+    EXPECT_EQ(std::stod(cells[11]), 1.0) << line;
+    EXPECT_GT(std::stod(cells[13]), 20.0) << "mean inliers: " << line;
+    EXPECT_GT(std::stod(cells[14]), 0.3) << "repeatability: " << line;
+    EXPECT_LE(std::stod(cells[14]), 1.0) << line;
+    EXPECT_EQ(cells[15], "0") << "no miss on exact poses: " << line;
+    EXPECT_EQ(cells[16], "0") << line;
   }
   EXPECT_EQ(rows, havePcl() ? 3 : 2);
   EXPECT_GT(risas_auc, 0.3) << "RISAS on exact synthetic poses (measured 0.49; random descriptors give about 0)";

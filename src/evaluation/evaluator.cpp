@@ -94,7 +94,7 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     r.method = method->name();
     r.ms_per_frame = 0.5 * (reference.ms + query.ms);
     std::vector<cv::Point3f> reference_points, query_points;
-    std::vector<cv::Point2f> reference_pixels;
+    std::vector<cv::Point2f> reference_pixels, query_pixels;
     cv::Mat reference_descriptors, query_descriptors;
     r.dropped_reference = keepWithDepth(
         reference.output, [&](const cv::Point2f& px) { return keypointPoint(reference_depth, intrinsics_, px); },
@@ -107,7 +107,7 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
                      ? keypointPoint(reference_depth, intrinsics_, unrotatePixel(px, pair.image_rotation_deg))
                      : keypointPoint(query_depth, intrinsics_, px);
         },
-        query_points, query_descriptors);
+        query_points, query_descriptors, &query_pixels);
     r.reference_keypoints = static_cast<int>(reference_points.size());
     r.query_keypoints = static_cast<int>(query_points.size());
     r.repeatability = detectorRepeatability(query_points, reference_pixels, reference_depth, intrinsics_, pair.ref_T_query);
@@ -117,6 +117,7 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     const std::vector<PrPoint> curve = prCurve(r.candidates, r.positives);
     r.auc = prAuc(curve);
     r.at_ratio = atThreshold(curve, report_ratio_);
+    r.distinct_correct = distinctCorrectMatches(r.candidates, query_pixels, reference_pixels, report_ratio_);
     const std::vector<PoseRecovery> poses =
         recoverPoseOverSeeds(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, ransac_seeds_);
     // The depth check: the first seed's pose, reported, and every miss.

@@ -95,6 +95,32 @@ int countPositives(const std::vector<cv::Point3f>& query_points, const std::vect
   return positives;
 }
 
+int distinctCorrectMatches(const std::vector<Candidate>& candidates, const std::vector<cv::Point2f>& query_pixels,
+                           const std::vector<cv::Point2f>& reference_pixels, double threshold,
+                           double pixel_tolerance) {
+  std::vector<const Candidate*> passed;
+  for (const Candidate& c : candidates) {
+    if (c.correct && c.ratio <= threshold) passed.push_back(&c);
+  }
+  std::stable_sort(passed.begin(), passed.end(), [](const Candidate* a, const Candidate* b) { return a->ratio < b->ratio; });
+  const double tol2 = pixel_tolerance * pixel_tolerance;
+  const auto near = [&](const std::vector<cv::Point2f>& counted, const cv::Point2f& p) {
+    return std::any_of(counted.begin(), counted.end(), [&](const cv::Point2f& q) {
+      const cv::Point2f d = p - q;
+      return d.dot(d) <= tol2;
+    });
+  };
+  std::vector<cv::Point2f> counted_query, counted_reference;
+  for (const Candidate* c : passed) {
+    const cv::Point2f& q = query_pixels.at(static_cast<size_t>(c->query));
+    const cv::Point2f& r = reference_pixels.at(static_cast<size_t>(c->reference));
+    if (near(counted_query, q) || near(counted_reference, r)) continue;
+    counted_query.push_back(q);
+    counted_reference.push_back(r);
+  }
+  return static_cast<int>(counted_query.size());
+}
+
 std::vector<PrPoint> prCurve(std::vector<Candidate> candidates, int positives) {
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.ratio < b.ratio; });
   std::vector<PrPoint> curve;

@@ -30,6 +30,7 @@ double success5(const PairResult& r) { return r.shares.recovered; }
 double success2(const PairResult& r) { return r.shares.recovered_closely; }
 double inliers(const PairResult& r) { return r.pose.inliers; }
 double correct(const PairResult& r) { return r.at_ratio.correct; }
+double distinctCorrect(const PairResult& r) { return r.distinct_correct; }
 double repeatability(const PairResult& r) { return r.repeatability.rate(); }
 double missed(const PairResult& r) { return r.shares.missed(); }
 double missedPreferredByDepth(const PairResult& r) { return r.shares.missed_preferred_by_depth; }
@@ -49,8 +50,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
   md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm), % of pairs\n\n| method |";
   for (const std::string& s : present) md << " " << s << " |";
   md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio
-     << " | keypoints | repeatability | misses the depth prefers |\n|---|";
-  for (size_t i = 0; i < present.size() + 6; ++i) md << "---|";
+     << " | distinct correct | keypoints | repeatability | misses the depth prefers |\n|---|";
+  for (size_t i = 0; i < present.size() + 7; ++i) md << "---|";
   md << "\n";
   for (const std::string& m : methods) {
     Group all;
@@ -66,7 +67,8 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
          << ") |";
     }
     md << " " << std::setprecision(1) << 100.0 * all.mean(success5) << " (" << 100.0 * all.mean(success2) << ") | "
-       << all.mean(inliers) << " | " << all.mean(correct) << " | " << std::setprecision(0)
+       << all.mean(inliers) << " | " << all.mean(correct) << " | " << all.mean(distinctCorrect) << " | "
+       << std::setprecision(0)
        << all.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << " | "
        << std::setprecision(2) << all.mean(repeatability) << " | " << sumText(all.sum(missedPreferredByDepth)) << " of "
        << sumText(all.sum(missed)) << " |\n";
@@ -100,15 +102,15 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
 
   std::ofstream pairs = openFile(dir, "pairs.csv");
   pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
-           "positives,pr_auc,precision,recall,correct,matches,ms_per_frame,pose_estimated,inliers,rotation_error_deg,"
-           "alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible,inlier_spread_m,depth_agreement,"
-           "depth_agreement_truth\n";
+           "positives,pr_auc,precision,recall,correct,distinct_correct,matches,ms_per_frame,pose_estimated,inliers,"
+           "rotation_error_deg,alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible,inlier_spread_m,"
+           "depth_agreement,depth_agreement_truth\n";
   for (const PairResult& r : results) {
     pairs << r.pair.scene << "," << r.pair.sequence << "," << r.pair.label << "," << r.pair.step << "," << r.method
           << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
           << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
-          << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.at_ratio.matches << "," << r.ms_per_frame << ","
-          << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
+          << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.distinct_correct << "," << r.at_ratio.matches
+          << "," << r.ms_per_frame << "," << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
           << r.pose.error.alignment_m << "," << success5(r) << "," << success2(r) << ","
           << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << ","
           << r.depth_agreement << "," << r.depth_agreement_truth << "\n";
@@ -117,8 +119,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
   std::ofstream curves = openFile(dir, "curves.csv");
   curves << "scene,sequence,method,ratio,precision,recall\n";
   std::ofstream summary = openFile(dir, "summary.csv");
-  summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,keypoints,ms_per_frame,"
-             "success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability,misses,misses_preferred_by_depth\n";
+  summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,distinct_correct,keypoints,"
+             "ms_per_frame,success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability,misses,misses_preferred_by_depth\n";
   for (const auto& [key, group] : groups) {
     const auto& [scene, sequence, method] = key;
     std::vector<Candidate> pooled;
@@ -136,7 +138,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean([](const PairResult& r) { return r.auc; }) << ","
             << group.mean([](const PairResult& r) { return r.at_ratio.precision; }) << ","
             << group.mean([](const PairResult& r) { return r.at_ratio.recall; }) << ","
-            << group.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); }) << ","
+            << group.mean(correct) << "," << group.mean(distinctCorrect) << ","
             << group.mean([](const PairResult& r) { return 0.5 * (r.reference_keypoints + r.query_keypoints); }) << ","
             << group.mean([](const PairResult& r) { return r.ms_per_frame; }) << "," << group.mean(success5) << ","
             << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << ","
@@ -189,7 +191,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
         const bool is_best = auc >= best[s] - 1e-12;
         md << " " << (is_best ? "**" : "") << std::setprecision(3) << auc << (is_best ? "**" : "") << " |";
         auc_sum += auc;
-        correct_sum += g->second.mean([](const PairResult& r) { return static_cast<double>(r.at_ratio.correct); });
+        correct_sum += g->second.mean(correct);
         ms_sum += g->second.mean([](const PairResult& r) { return r.ms_per_frame; });
         ++n;
       }

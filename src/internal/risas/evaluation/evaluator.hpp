@@ -37,6 +37,7 @@ struct PairResult {
   std::vector<Candidate> candidates;
   double auc = 0.0;
   PrPoint at_ratio;          // precision, recall, correct at the report ratio
+  int distinct_correct = 0;  // its correct matches, each image point once (distinctCorrectMatches)
   PoseRecovery pose;         // RANSAC on the matches at the report ratio, the first seed
   // depthAgreement of the first seed's estimate and of the ground truth (NaN
   // without an estimate, and for synthetic_rotate, whose query depth is the
@@ -105,7 +106,8 @@ class Evaluator {
 //                 first seed's, the success columns the shares over all
 //   curves.csv    per scene, sequence and method: the PR curve of all its pairs pooled
 //   summary.csv   per scene, sequence and method: mean PR-AUC, precision,
-//                 recall and correct matches at the report ratio, pose
+//                 recall, correct matches and distinct correct matches at
+//                 the report ratio, pose
 //                 success rates at 5 deg / 5 cm and 2 deg / 2 cm (the
 //                 pairs' PoseShares averaged), mean inliers, detector
 //                 repeatability (3 px), ms/frame, misses and the misses

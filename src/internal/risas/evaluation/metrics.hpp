@@ -58,6 +58,10 @@ std::optional<Landing> landInReference(const Eigen::Vector3d& query_point, const
 // depth there within depth_tolerance metres (seen by both cameras, not
 // occluded), the fraction with a reference keypoint within
 // pixel_tolerance pixels of the projection.
+// Keypoints this near each other (pixels) are one image point: the
+// repeatability's tolerance, and the distinct count's.
+constexpr double kSamePointPixels = 3.0;
+
 struct Repeatability {
   int visible = 0;
   int repeated = 0;
@@ -66,8 +70,21 @@ struct Repeatability {
 Repeatability detectorRepeatability(const std::vector<cv::Point3f>& query_points,
                                     const std::vector<cv::Point2f>& reference_pixels,
                                     const cv::Mat& reference_depth_metres, const Intrinsics& intrinsics,
-                                    const Eigen::Isometry3d& ref_T_query, double pixel_tolerance = 3.0,
+                                    const Eigen::Isometry3d& ref_T_query, double pixel_tolerance = kSamePointPixels,
                                     double depth_tolerance = 0.05);
+
+// The correct matches with ratio <= threshold, each image point counted
+// once: taken in ascending ratio, a correct match counts unless its query
+// keypoint or its reference keypoint lies within pixel_tolerance of one
+// that counted already. A detector that reports one corner at several
+// pyramid levels (ORB's 1000 keypoints are about 340 points 3 px apart on
+// the dataset) gets a correct match per copy, and the copies tell RANSAC
+// no more than one point does (docs/evaluation.md, "Correct matches, each
+// image point once"). query_pixels and reference_pixels are indexed by the
+// candidates' rows.
+int distinctCorrectMatches(const std::vector<Candidate>& candidates, const std::vector<cv::Point2f>& query_pixels,
+                           const std::vector<cv::Point2f>& reference_pixels, double threshold,
+                           double pixel_tolerance = kSamePointPixels);
 
 struct PrPoint {
   double ratio;      // threshold: matches with d1/d2 <= ratio
