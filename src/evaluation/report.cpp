@@ -110,8 +110,8 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
           << "," << r.reference_keypoints << "," << r.query_keypoints << "," << r.dropped_reference << ","
           << r.dropped_query << "," << r.positives << "," << r.auc << "," << r.at_ratio.precision << ","
           << r.at_ratio.recall << "," << r.at_ratio.correct << "," << r.distinct_correct << "," << r.at_ratio.matches
-          << "," << r.ms_per_frame << "," << r.pose.estimated << "," << r.pose.inliers << "," << r.pose.error.rotation_deg << ","
-          << r.pose.error.alignment_m << "," << success5(r) << "," << success2(r) << ","
+          << "," << r.ms_per_frame << "," << r.pose.estimated << "," << r.pose.inliers << ","
+          << r.pose.error.rotation_deg << "," << r.pose.error.alignment_m << "," << success5(r) << "," << success2(r) << ","
           << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << ","
           << r.depth_agreement << "," << r.depth_agreement_truth << "\n";
   }
