@@ -496,6 +496,33 @@ TEST(Detector, KeypointsAreTheResponsesLocalMaximaAboveTheThreshold) {
   }
 }
 
+// A faint corner 3 px beside a square whose contrast differs between two
+// views (as lighting or the viewpoint change a neighbour's contrast). Its
+// own response is a maximum in both views, but in the view where the
+// neighbour is dark the neighbour's flank, not itself a maximum, lies
+// within 2 px above it. The default 3x3 suppression finds the corner in both
+// views; a 5x5 window finds it in one, so it would not repeat
+// (docs/evaluation.md, "The non-maximum suppression's window").
+TEST(Detector, FindsACornerInBothViewsWhateverItsNeighboursFlank) {
+  const cv::Point2f faint_corner(300, 200);
+  const auto foundIn = [&](int neighbour_grey, const DetectorParams& params) {
+    cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(230));
+    grey(cv::Rect(300, 200, 30, 30)).setTo(180);              // the faint square, its corner at faint_corner
+    grey(cv::Rect(300 - 3 - 30, 200 - 2 - 30, 30, 30)).setTo(neighbour_grey);  // the neighbour, up and left
+    const RgbdFrame frame(grey, cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)), syntheticIntrinsics());
+    std::vector<cv::KeyPoint> keypoints;
+    Detector(params).detect(frame, computeGeometry(frame, GeometryParams()), keypoints);
+    return std::any_of(keypoints.begin(), keypoints.end(),
+                       [&](const cv::KeyPoint& k) { return cv::norm(k.pt - faint_corner) <= 1.5; });
+  };
+  EXPECT_EQ(DetectorParams().nms_radius, 1);
+  for (int neighbour_grey : {20, 150}) EXPECT_TRUE(foundIn(neighbour_grey, DetectorParams())) << neighbour_grey;
+  DetectorParams wide;
+  wide.nms_radius = 2;
+  EXPECT_FALSE(foundIn(20, wide));
+  EXPECT_TRUE(foundIn(150, wide));
+}
+
 TEST(Detector, RespectsTheMask) {
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   const FrameGeometry g = computeGeometry(frame, GeometryParams());

@@ -83,7 +83,7 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   RisasParams expected;  // the defaults with those fields changed, and no other
   expected.geometry.normal_stride = 1;
   expected.detector.gray_sigma = 0.7, expected.detector.window_sigma = 1.0;
-  expected.detector.nms_radius = 1, expected.detector.min_keypoints = 0;
+  expected.detector.min_keypoints = 0;
   expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
   expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;
   expected.descriptor.soft_binning = false, expected.descriptor.sample_blur = 0.0, expected.descriptor.n_vec = 2;
@@ -91,13 +91,14 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_EQ(paramsText(paper), paramsText(expected));
 }
 
-// config/odometry.yaml changes the detector's budget rule and scales, nothing else.
+// config/odometry.yaml changes the detector's budget rule, scales and suppression, nothing else.
 TEST(Params, OdometryYamlKeepsTheBestThousandAnywhere) {
   RisasParams expected;
   expected.detector.max_keypoints = 1000;
   expected.detector.response_threshold = 0.0;
   expected.detector.grid_cols = 1, expected.detector.grid_rows = 1;
   expected.detector.gray_sigma = 0.7, expected.detector.window_sigma = 1.0;
+  expected.detector.nms_radius = 2;
   EXPECT_EQ(paramsText(RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml")), paramsText(expected));
 }
 

@@ -55,8 +55,12 @@ struct DetectorParams {
   double window_sigma = 1.5;
   // Keep responses above this fraction of the frame's largest response (ref: 0.001).
   double response_threshold = 0.001;
-  // Half-width of the non-maximum suppression window (1 -> 3x3 as in the ref).
-  int nms_radius = 2;
+  // Half-width of the non-maximum suppression window: 1, the ref's 3x3. A
+  // wider window also removes maxima that lie on the flank of a stronger
+  // response, and their counterparts in another view, where that flank is
+  // weaker, are kept: they then repeat in one view only (docs/evaluation.md,
+  // "The non-maximum suppression's window").
+  int nms_radius = 1;
   // Cap on keypoints per frame, spread over a grid_cols x grid_rows grid.
   int max_keypoints = 500;
   // Floor on keypoints per frame: when fewer maxima than this pass
