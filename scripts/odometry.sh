@@ -22,7 +22,8 @@ while read -r name folder fx fy cx cy; do
     params=()
     [ "$run" = RISAS_vo ] && params=(--params "$RISAS_ROOT/config/odometry.yaml")
     "$RISAS_BIN/risas_odometry" --tum "$tum/$folder" --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy" \
-      --features "${run%_vo}" "${params[@]}" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv"
+      --features "${run%_vo}" "${params[@]}" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv" \
+      --ransac-seeds 8
   done
   "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
     "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \

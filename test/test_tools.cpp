@@ -2,6 +2,8 @@
 // sequence that risas_render_synthetic writes in the dataset's layout.
 #include "risas/io.hpp"
 
+#include <Eigen/Geometry>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include <gtest/gtest.h>
@@ -39,7 +41,7 @@ class Tools : public ::testing::Test {
   static fs::path dir;
   static void SetUpTestSuite() {
     dir = fs::temp_directory_path() / ("risas_tools_" + std::to_string(::getpid()));
-    const ToolRun r = run("risas_render_synthetic --out " + dir.string() + " --frames 2 --step-deg 6");
+    const ToolRun r = run("risas_render_synthetic --out " + dir.string() + " --frames 3 --step-deg 6");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   static void TearDownTestSuite() { fs::remove_all(dir); }
@@ -47,6 +49,29 @@ class Tools : public ::testing::Test {
   static std::string frameArgs(const std::string& suffix, int k) {
     return " --rgb" + suffix + " " + file("rgb_" + std::to_string(k) + ".png") + " --depth" + suffix + " " +
            file("depth_" + std::to_string(k) + ".png");
+  }
+  // The first `frames` rendered frames as a TUM RGB-D folder: depth in 5000
+  // units a metre, and groundtruth.txt with frame 1 as the world.
+  static fs::path tumFolder(int frames) {
+    const fs::path tum = dir / ("tum" + std::to_string(frames));
+    fs::create_directories(tum / "rgb");
+    fs::create_directories(tum / "depth");
+    std::ofstream rgb_list(tum / "rgb.txt"), depth_list(tum / "depth.txt"), truth(tum / "groundtruth.txt");
+    for (int k = 1; k <= frames; ++k) {
+      const std::string name = std::to_string(k) + ".png";
+      fs::copy_file(file("rgb_" + name), tum / "rgb" / name, fs::copy_options::overwrite_existing);
+      cv::Mat depth;
+      cv::imread(file("depth_" + name), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
+      cv::imwrite((tum / "depth" / name).string(), depth);
+      rgb_list << k << ".0 rgb/" << name << "\n";
+      depth_list << k << ".001 depth/" << name << "\n";
+      const Eigen::Matrix3d R = readMatrixFile(file("R1-" + std::to_string(k) + ".txt"), 3, 3);
+      const Eigen::Vector3d t = readMatrixFile(file("T1-" + std::to_string(k) + ".txt"), 3, 1);
+      const Eigen::Quaterniond q(R);
+      truth << k << ".0 " << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z()
+            << " " << q.w() << "\n";
+    }
+    return tum;
   }
 };
 fs::path Tools::dir;
@@ -101,22 +126,7 @@ double benchmarkColumn(const std::string& output, const std::string& stage) {
 }
 
 TEST_F(Tools, BenchmarkTimesTheSameFramesFromEitherLayout) {
-  // The two rendered frames as a TUM RGB-D folder: depth in 5000 units a metre.
-  const fs::path tum = dir / "tum";
-  fs::create_directories(tum / "rgb");
-  fs::create_directories(tum / "depth");
-  std::ofstream rgb_list(tum / "rgb.txt"), depth_list(tum / "depth.txt");
-  for (int k = 1; k <= 2; ++k) {
-    const std::string name = std::to_string(k) + ".png";
-    fs::copy_file(file("rgb_" + name), tum / "rgb" / name, fs::copy_options::overwrite_existing);
-    cv::Mat depth;
-    cv::imread(file("depth_" + name), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
-    cv::imwrite((tum / "depth" / name).string(), depth);
-    rgb_list << k << ".0 rgb/" << name << "\n";
-    depth_list << k << ".001 depth/" << name << "\n";
-  }
-  rgb_list.close();
-  depth_list.close();
+  const fs::path tum = tumFolder(2);
   const ToolRun from_data = run("risas_benchmark --data " + dir.string() + " --frames 2 --repeats 1");
   ASSERT_EQ(from_data.exit_code, 0) << from_data.output;
   const ToolRun from_tum = run("risas_benchmark --tum " + tum.string() + " --intrinsics " +
@@ -134,6 +144,35 @@ TEST_F(Tools, BenchmarkTimesTheSameFramesFromEitherLayout) {
   r = run("risas_benchmark --tum " + tum.string() + " --data " + dir.string() + " --fx 500 --fy 500 --cx 320 --cy 240");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("not both"), std::string::npos) << r.output;
+}
+
+// The odometry tool tracks the same features once per RANSAC seed: the
+// trajectory and the first ATE are the first seed's, as a run without the
+// option gives them, and the spread over the seeds follows.
+TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
+  const std::string tum = tumFolder(3).string();
+  const std::string common = "risas_odometry --tum " + tum + " --intrinsics " + file("camera-intrinsics.txt");
+  const ToolRun one = run(common + " --out " + file("one.txt"));
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_NE(one.output.find("3 frames, 0 not tracked"), std::string::npos) << one.output;
+  EXPECT_EQ(one.output.find("RANSAC seeds"), std::string::npos) << one.output;
+  const ToolRun three = run(common + " --out " + file("three.txt") + " --ransac-seeds 3");
+  ASSERT_EQ(three.exit_code, 0) << three.output;
+  const auto ateLine = [](const std::string& output) { return output.substr(output.find("ATE RMSE "), 40); };
+  EXPECT_EQ(ateLine(three.output), ateLine(one.output));
+  std::ifstream a(file("one.txt")), b(file("three.txt"));
+  std::stringstream ta, tb;
+  ta << a.rdbuf(), tb << b.rdbuf();
+  EXPECT_EQ(tb.str(), ta.str());
+  // The rendered motion is exact: every seed recovers it within a centimetre.
+  const size_t over = three.output.find("ATE RMSE over 3 RANSAC seeds: mean ");
+  ASSERT_NE(over, std::string::npos) << three.output;
+  const size_t highest = three.output.find(" to ", over);
+  ASSERT_NE(highest, std::string::npos) << three.output;
+  EXPECT_LT(std::stod(three.output.substr(highest + 4)), 0.01) << three.output;
+  const ToolRun none = run(common + " --out " + file("none.txt") + " --ransac-seeds 0");
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_NE(none.output.find("--ransac-seeds must be at least 1"), std::string::npos) << none.output;
 }
 
 TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {
