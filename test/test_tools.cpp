@@ -173,6 +173,8 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   const ToolRun none = run(common + " --out " + file("none.txt") + " --ransac-seeds 0");
   EXPECT_EQ(none.exit_code, 2) << none.output;
   EXPECT_NE(none.output.find("--ransac-seeds must be at least 1"), std::string::npos) << none.output;
+  const ToolRun no_frames = run(common + " --out " + file("none.txt") + " --max-frames 0");
+  EXPECT_EQ(no_frames.exit_code, 2) << no_frames.output;
 }
 
 TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {
