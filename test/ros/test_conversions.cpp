@@ -292,13 +292,28 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
   const auto detector = expectCfgMatchesLibrary<risas::RisasDetectorConfig>(defaults.detector);
   const auto descriptor = expectCfgMatchesLibrary<risas::RisasDescriptorConfig>(defaults.descriptor);
   const auto match = expectCfgMatchesLibrary<risas::RisasMatchConfig>(defaults.match);
-  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "max_keypoints", "min_keypoints",
-                                                "grid_cols", "grid_rows", "gray_sigma", "dp_sigma",
+  EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "nms_radius", "max_keypoints",
+                                                "min_keypoints", "grid_cols", "grid_rows", "gray_sigma", "dp_sigma",
                                                 "window_sigma"}));
   EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "rho_threshold",
                                                   "support_radius", "gradient_orientation", "soft_binning",
                                                   "sample_blur"}));
   EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
+}
+
+// The README says config/odometry.yaml's detector can be set live: every
+// field the preset changes is on ~detector, so its Config carries the whole
+// preset onto the defaults.
+TEST(Reconfigure, TheOdometryPresetsDetectorCanBeSetLive) {
+  const risas::DetectorParams preset = RisasParams::load(RISAS_SOURCE_DIR "/config/odometry.yaml").detector;
+  const risas::DetectorParams live = applyConfig(toConfig<risas::RisasDetectorConfig>(preset), risas::DetectorParams());
+  const auto values = [](risas::DetectorParams p) {
+    std::vector<double> v;
+    visitFields(p, [&](const char*, auto& field, auto...) { v.push_back(static_cast<double>(field)); });
+    return v;
+  };
+  EXPECT_NE(values(preset), values(risas::DetectorParams()));
+  EXPECT_EQ(values(live), values(preset));
 }
 
 TEST(Reconfigure, ConfigsMapToTheirSectionsBothWays) {

@@ -267,6 +267,7 @@ TEST(OdometryPreset, ThePresetsBudgetReachesTheDetector) {
   EXPECT_EQ(ros::param::param("/risas/detector/max_keypoints", 0), 1000);
   EXPECT_EQ(ros::param::param("/risas/detector/response_threshold", -1.0), 0.0);
   EXPECT_EQ(ros::param::param("/risas/detector/grid_cols", 0), 1);
+  EXPECT_EQ(ros::param::param("/risas/detector/nms_radius", 0), 2);
   for (const auto& array : keypoints.messages()) {
     EXPECT_GT(array->keypoints.size(), static_cast<size_t>(risas::DetectorParams().max_keypoints));
     EXPECT_LE(array->keypoints.size(), 1000u);
