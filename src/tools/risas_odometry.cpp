@@ -91,13 +91,10 @@ int main(int argc, char** argv) {
     const auto risas = risas::Risas::create(params);
     const cv::Ptr<cv::ORB> orb = cv::ORB::create(1000);
     const size_t count = static_cast<size_t>(std::min<int>(max_frames, static_cast<int>(sequence.frames.size())));
-    std::vector<double> stamps;
     std::vector<risas::Features> kept;
     const auto extract = [&](size_t i) {
-      const risas::TumFrame& f = sequence.frames[i];
-      const risas::TumImages images = risas::readTumImages(f);
+      const risas::TumImages images = risas::readTumImages(sequence.frames[i]);
       const risas::RgbdFrame frame(images.bgr, images.depth_metres, K);
-      stamps.push_back(f.stamp);
       return features_name == "ORB" ? orbFeatures(orb, frame) : risas->extract(frame);
     };
     const std::vector<risas::StampedPose> truth =
@@ -120,10 +117,11 @@ int main(int argc, char** argv) {
           if (seeds > 1) kept.push_back(extracted);
         }
         const risas::Features& features = k == 0 ? extracted : kept[i];
+        const double stamp = sequence.frames[i].stamp;
         const risas::OdometryResult r = odometry.track(features);
-        trajectory.push_back({stamps[i], r.world_T_camera});
+        trajectory.push_back({stamp, r.world_T_camera});
         if (frames_csv.is_open()) {
-          frames_csv << stamps[i] << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
+          frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
                      << "," << r.matches << "," << r.inliers << "," << r.rmse << "\n";
         }
       }
