@@ -21,6 +21,8 @@ echo "== all methods, all sequences -> $out/methods"
 "$evaluate" --data "$data" --out "$out/methods"
 echo "== study: n_pie x n_bin x n_vec -> $out/study_bins"
 "$evaluate" --data "$data" --study bins --out "$out/study_bins" | tail -20
+echo "== study: n_ring x n_bin -> $out/study_layout"
+"$evaluate" --data "$data" --study layout --out "$out/study_layout" | tail -16
 echo "== study: tau -> $out/study_tau"
 "$evaluate" --data "$data" --study tau --out "$out/study_tau" | tail -12
 

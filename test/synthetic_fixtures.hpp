@@ -66,6 +66,19 @@ inline cv::Mat kinectLikeDepth(const cv::Mat& depth, uint64_t seed) {
   return out;
 }
 
+// A rendered view as a Kinect shows it: the grey image's contrast about
+// 128 scaled by `contrast`, grey noise of one level, and kinectLikeDepth.
+inline RgbdFrame kinectLikeFrame(const SyntheticScene& scene, const Eigen::Isometry3d& world_T_camera, uint64_t seed,
+                                 double contrast = 1.0, SyntheticRender* render_out = nullptr) {
+  const RgbdFrame clean = renderFrame(scene, world_T_camera, render_out);
+  cv::Mat noise(clean.size(), CV_32F), grey;
+  cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+  clean.gray().convertTo(grey, CV_32F);
+  grey = 128.0 + contrast * (grey - 128.0) + noise;
+  grey.convertTo(grey, CV_8U);
+  return RgbdFrame(grey, kinectLikeDepth(clean.depth(), seed), clean.intrinsics());
+}
+
 // The camera of the invariance tests: looking down at the demo scene.
 inline Eigen::Isometry3d demoCamera(double distance = 1.4) {
   const Eigen::Vector3d target(0.0, 0.05, 0.15);

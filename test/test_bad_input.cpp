@@ -127,7 +127,7 @@ TEST(BadInput, DescriptorSizeIsBounded) {
   DescriptorParams params;
   params.n_pie = 64, params.n_bin = 256, params.n_vec = 64;  // each in range: 1,064,960 dimensions
   EXPECT_INPUT_ERROR(params.validate(), "exceeds 2048");
-  params.n_pie = 8, params.n_bin = 32, params.n_vec = 7;  // 2048
+  params.n_ring = 1, params.n_pie = 8, params.n_bin = 32, params.n_vec = 7;  // 2048
   EXPECT_NO_THROW(params.validate());
 }
 

@@ -291,17 +291,9 @@ TEST(Detector, FloorKeepsAnUntexturedBoxOnKinectDepthDescribed) {
   box.scene.setLighting(true);  // its faces shaded, as a lit plain box's are
   const Eigen::Vector3d eye = box.camera.translation(), target(0.0, 0.0, 0.1);
   const Eigen::Isometry3d other = lookAt(Eigen::AngleAxisd(20.0 * CV_PI / 180.0, Eigen::Vector3d::UnitZ()) * eye, target);
-  const auto kinectFrame = [&](const Eigen::Isometry3d& camera, uint64_t seed, SyntheticRender* render) {
-    const RgbdFrame clean = test::renderFrame(box.scene, camera, render);
-    cv::Mat noise(clean.size(), CV_32F), grey;
-    cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
-    clean.gray().convertTo(grey, CV_32F);
-    grey += noise;
-    grey.convertTo(grey, CV_8U);
-    return RgbdFrame(grey, test::kinectLikeDepth(clean.depth(), seed), clean.intrinsics());
-  };
   SyntheticRender render_a, render_b;
-  const RgbdFrame a = kinectFrame(box.camera, 3, &render_a), b = kinectFrame(other, 4, &render_b);
+  const RgbdFrame a = test::kinectLikeFrame(box.scene, box.camera, 3, 1.0, &render_a),
+                  b = test::kinectLikeFrame(box.scene, other, 4, 1.0, &render_b);
   const Eigen::Isometry3d a_T_b = box.camera.inverse() * other;
   const double tolerance = GeometryParams().normal_radius + 2.0 * DetectorParams().dp_sigma + 1.0;
 

@@ -231,7 +231,7 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     }
     if (cells[2] != "RISAS") continue;
     risas_auc = std::stod(cells[4]);
-    // RISAS's non-maximum suppression (5x5) keeps its keypoints apart.
+    // RISAS's non-maximum suppression keeps its keypoints apart.
     EXPECT_GT(distinct, 0.9 * correct) << line;
     // Rendered frames 4 and 8 degrees from frame 1 with exact poses: the
     // motion comes back from RISAS's matches on both pairs, with each of the
@@ -248,7 +248,29 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   if (std::system("/usr/bin/python3 -c 'import matplotlib' 2> /dev/null") == 0) {
     EXPECT_TRUE(fs::exists(out / "pr_texture_viewchange.png")) << output.str();
   }
+  // The layout study: one RISAS per rings x rank groups, each named by them.
+  const fs::path layout = root / "layout";
+  ASSERT_EQ(std::system((bin + "/risas_evaluate --data " + root.string() + " --study layout --no-plots --out " +
+                         layout.string() + " > /dev/null 2>&1").c_str()),
+            0);
+  std::ifstream layout_summary(layout / "summary.csv");
+  std::getline(layout_summary, line);
+  std::vector<std::string> variants;
+  while (std::getline(layout_summary, line)) {  // scene, sequence, method
+    variants.push_back(line.substr(0, line.find(',', line.find(',', line.find(',') + 1) + 1)));
+  }
+  const std::vector<std::string> expected_variants = [] {
+    std::vector<std::string> names;
+    for (int rings : {1, 2, 3}) {
+      for (int bins : {2, 4, 6, 8}) {
+        names.push_back("texture,viewchange,RISAS(n_ring=" + std::to_string(rings) + "/n_bin=" + std::to_string(bins) + ")");
+      }
+    }
+    return names;
+  }();
+  EXPECT_EQ(variants, expected_variants);
   // Wrong usage and missing data fail clearly.
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --study rings > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ransac-seeds 0 > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + (root / "none").string() + " > /dev/null 2>&1").c_str()), 0);

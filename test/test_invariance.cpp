@@ -21,8 +21,12 @@ struct InvarianceTest : ::testing::Test {
   Risas risas;
 
   CorrespondenceScore score(const Eigen::Isometry3d& camera_a, const Eigen::Isometry3d& camera_b) const {
-    const Features a = risas.extract(test::renderFrame(scene(), camera_a));
-    const Features b = risas.extract(test::renderFrame(scene(), camera_b));
+    return score(risas, camera_a, camera_b);
+  }
+  static CorrespondenceScore score(const Risas& with, const Eigen::Isometry3d& camera_a,
+                                   const Eigen::Isometry3d& camera_b) {
+    const Features a = with.extract(test::renderFrame(scene(), camera_a));
+    const Features b = with.extract(test::renderFrame(scene(), camera_b));
     return test::scoreCorrespondences(a, b, camera_a.inverse() * camera_b);
   }
 };
@@ -71,10 +75,7 @@ TEST_F(InvarianceTest, ScaleChangeFromMovingTheCameraBack) {
   const Risas baseline(paper_radius);
   for (double factor : {1.2, 1.4}) {
     const Eigen::Isometry3d near = test::demoCamera(1.2), far = test::demoCamera(1.2 * factor);
-    const CorrespondenceScore s = score(near, far);
-    const Features a = baseline.extract(test::renderFrame(scene(), near));
-    const Features b = baseline.extract(test::renderFrame(scene(), far));
-    const CorrespondenceScore paper = test::scoreCorrespondences(a, b, near.inverse() * far);
+    const CorrespondenceScore s = score(near, far), paper = score(baseline, near, far);
     std::cout << "distance x" << factor << ": " << s.matched << " / " << s.counterparts << " = " << s.rate()
               << " (paper's pixel radius: " << paper.rate() << ")\n";
     // Measured 0.52 and 0.45 (the paper's pixel radius: 0.33 and 0.14).
@@ -90,18 +91,23 @@ TEST_F(InvarianceTest, ScaleChangeFromMovingTheCameraBack) {
 // from the pyramid level blurred in proportion to their spacing
 // (descriptor.sample_blur) they see the same smoothed pattern at both
 // distances. The detector is the same, so both see the same counterparts.
+// Both with the paper's eight rank groups: the aliasing moves a sample's
+// grey across the finer groups' bounds; on this rendered texture the
+// defaults' four groups absorb it (670 against 674 matched), on the
+// dataset's scale pairs the blur still adds 12 % (texture) and 4 %
+// (geometry) correct matches to them (docs/evaluation.md, "The
+// descriptor's layout").
 TEST_F(InvarianceTest, SamplesReadAtTheirOwnScaleMatchAcrossAScaleChange) {
-  RisasParams raw_params;
+  RisasParams blurred_params;
+  blurred_params.descriptor.n_bin = 8, blurred_params.descriptor.n_ring = 1;
+  RisasParams raw_params = blurred_params;
   raw_params.descriptor.sample_blur = 0.0;
-  const Risas raw(raw_params);
+  const Risas blurred(blurred_params), raw(raw_params);
   CorrespondenceScore blurred_total, raw_total;
   for (double near_distance : {0.6, 0.8, 1.2}) {
     for (double factor : {1.4, 2.0}) {
       const Eigen::Isometry3d near = test::demoCamera(near_distance), far = test::demoCamera(near_distance * factor);
-      const CorrespondenceScore s = score(near, far);
-      const Features a = raw.extract(test::renderFrame(scene(), near));
-      const Features b = raw.extract(test::renderFrame(scene(), far));
-      const CorrespondenceScore r = test::scoreCorrespondences(a, b, near.inverse() * far);
+      const CorrespondenceScore s = score(blurred, near, far), r = score(raw, near, far);
       std::cout << near_distance << " m, distance x" << factor << ": " << s.matched << " / " << s.counterparts
                 << " (raw grey: " << r.matched << " / " << r.counterparts << ")\n";
       EXPECT_EQ(s.counterparts, r.counterparts);
@@ -109,8 +115,7 @@ TEST_F(InvarianceTest, SamplesReadAtTheirOwnScaleMatchAcrossAScaleChange) {
       raw_total.matched += r.matched, raw_total.counterparts += r.counterparts;
     }
   }
-  // Measured 524 against 499 of 929 counterparts: ahead at five of the six
-  // settings, 1 behind at 1.2 m x2.
+  // Measured 613 against 581 of 921 counterparts: ahead at all six settings.
   EXPECT_GT(blurred_total.matched, raw_total.matched + 10);
 }
 

@@ -80,6 +80,9 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_FALSE(paper.descriptor.soft_binning);  // one vote per sample
   EXPECT_EQ(paper.descriptor.sample_blur, 0.0);  // the frame's grey image
   EXPECT_EQ(paper.descriptor.n_vec, 2);  // the shape labels
+  EXPECT_EQ(paper.descriptor.n_bin, 8);  // eight rank groups
+  EXPECT_EQ(paper.descriptor.n_ring, 1);  // sectors only
+  EXPECT_EQ(paper.descriptor.dimension(), 192);
   RisasParams expected;  // the defaults with those fields changed, and no other
   expected.geometry.normal_stride = 1;
   expected.detector.gray_sigma = 0.7, expected.detector.window_sigma = 1.0;
@@ -87,6 +90,7 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
   expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;
   expected.descriptor.soft_binning = false, expected.descriptor.sample_blur = 0.0, expected.descriptor.n_vec = 2;
+  expected.descriptor.n_bin = 8, expected.descriptor.n_ring = 1;
   expected.descriptor.gradient_orientation = false;
   EXPECT_EQ(paramsText(paper), paramsText(expected));
 }

@@ -83,7 +83,7 @@ TEST_F(Tools, ExtractWritesAFeaturesFile) {
   EXPECT_NE(r.output.find("64-d descriptors"), std::string::npos) << r.output;
   const Features f = readFeatures(file("f.yml"));
   EXPECT_GT(f.keypoints.size(), 100u);
-  EXPECT_EQ(f.descriptors.cols, 64);  // 8 sectors x 8 rank groups, no shape labels
+  EXPECT_EQ(f.descriptors.cols, 64);  // 2 rings x 8 sectors x 4 rank groups, no shape labels
   EXPECT_EQ(f.geometry.size(), f.keypoints.size());
 }
 

@@ -31,11 +31,12 @@ std::vector<std::string> split(const std::string& list) {
 std::vector<std::unique_ptr<risas::eval::FeatureMethod>> studyMethods(const std::string& study,
                                                                       const risas::RisasParams& base) {
   std::vector<std::unique_ptr<risas::eval::FeatureMethod>> methods;
-  if (study == "bins") {
+  if (study == "bins") {  // the paper's sectors, without rings
     for (int n_pie : {4, 8, 12}) {
       for (int n_bin : {8, 16}) {
         for (int n_vec : {0, 1, 2}) {  // 0: no shape labels (the default), 2: the paper's
           risas::RisasParams p = base;
+          p.descriptor.n_ring = 1;
           p.descriptor.n_pie = n_pie;
           p.descriptor.n_bin = n_bin;
           p.descriptor.n_vec = n_vec;
@@ -43,6 +44,17 @@ std::vector<std::unique_ptr<risas::eval::FeatureMethod>> studyMethods(const std:
           name << "RISAS(" << n_pie << "/" << n_bin << "/" << n_vec << ")";
           methods.push_back(risas::eval::makeRisas(name.str(), p));
         }
+      }
+    }
+  } else if (study == "layout") {  // rings against rank groups, the sectors and shape labels the base's
+    for (int n_ring : {1, 2, 3}) {
+      for (int n_bin : {2, 4, 6, 8}) {
+        risas::RisasParams p = base;
+        p.descriptor.n_ring = n_ring;
+        p.descriptor.n_bin = n_bin;
+        std::ostringstream name;
+        name << "RISAS(n_ring=" << n_ring << "/n_bin=" << n_bin << ")";
+        methods.push_back(risas::eval::makeRisas(name.str(), p));
       }
     }
   } else if (study == "tau") {
@@ -54,7 +66,7 @@ std::vector<std::unique_ptr<risas::eval::FeatureMethod>> studyMethods(const std:
       methods.push_back(risas::eval::makeRisas(name.str(), p));
     }
   } else {
-    throw risas::cli::UsageError("--study is bins or tau, not '" + study + "'");
+    throw risas::cli::UsageError("--study is bins, layout or tau, not '" + study + "'");
   }
   return methods;
 }
@@ -78,7 +90,7 @@ int main(int argc, char** argv) {
         {"scenes", "LIST", "scene types (default: texture,geometry)"},
         {"sequences", "LIST", "sequences (default: " + all_sequences + ")"},
         {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
-        {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec) or tau"},
+        {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec, one ring), layout (n_ring x n_bin) or tau"},
         {"ransac-seeds", "N", "pose recovery with N RANSAC seeds, success as the share of them (default: 8)"},
         {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
         risas::cli::paramsOption()};
@@ -86,7 +98,7 @@ int main(int argc, char** argv) {
     const risas::cli::Args args(
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
-        "               [--pairs LABEL,...] [--study bins|tau] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
+        "               [--pairs LABEL,...] [--study bins|layout|tau] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
         "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
         "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"

@@ -245,13 +245,13 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
       [&](const auto& m) { return std::any_of(m.begin(), m.end(), [&](const auto& t) { return t->header.stamp > changed; }); },
       30.0))
       << "no motion after the descriptor size changed";
-  // A descriptor over 2,048 dimensions (8 x 16 x 65) is rejected, and the
+  // A descriptor over 2,048 dimensions (2 x 8 x 16 x 65) is rejected, and the
   // server says so by keeping its value.
   const auto rejected = setIntParameter("/risas/descriptor", "n_vec", 64);
   ASSERT_TRUE(rejected);
   EXPECT_EQ(intIn(*rejected, "n_vec"), defaults.n_vec);
   EXPECT_EQ(ros::param::param("/risas/descriptor/n_vec", -1), defaults.n_vec);
-  ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", 8));
+  ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", defaults.n_bin));
 }
 
 // ----------------------------------------------------------- OdometryPreset --
