@@ -192,16 +192,23 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
   const float t2 = static_cast<float>(params.background_distance * params.background_distance);
   const int first_read = half - read, read_count = 2 * read + 1;
   b.background.assign(columns, 0);
+  // The row's gathers through local pointers: the byte stores would
+  // otherwise make the compiler reload every vector's data pointer.
+  const int* nearest_column = b.columns.nearest.data();
+  const int* normal_index = b.normal_index.data();
+  float* row_z = b.z.data();
+  float* row_normal_z = b.normal_z.data();
+  uint8_t* row_on_surface = b.on_surface.data();
   for (int j = 0; j < side; ++j) {
     const int v = b.rows.nearest[static_cast<size_t>(j)];
     const float* depth = geometry.depth.ptr<float>(v);
     const uchar* on_surface = geometry.on_block_surface.ptr<uchar>(v);
     const float* normals = geometry.normals.ptr<float>(v / stride);
     for (int i = 0; i < side; ++i) {
-      const int u = b.columns.nearest[static_cast<size_t>(i)];
-      b.z[static_cast<size_t>(i)] = depth[u];
-      b.on_surface[static_cast<size_t>(i)] = on_surface[u];
-      b.normal_z[static_cast<size_t>(i)] = normals[b.normal_index[static_cast<size_t>(i)]];
+      const int u = nearest_column[i];
+      row_z[i] = depth[u];
+      row_on_surface[i] = on_surface[u];
+      row_normal_z[i] = normals[normal_index[i]];
     }
     SampleKind* kinds = b.kind.data() + static_cast<size_t>(j) * columns;
     if (b.rows.inside[static_cast<size_t>(j)]) {
