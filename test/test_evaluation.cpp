@@ -207,6 +207,12 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   for (const char* file : {"pairs.csv", "curves.csv", "summary.csv", "summary.md", "scale.csv"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
+  const auto cellsOf = [](const std::string& csv_line) {
+    std::vector<std::string> cells;
+    std::stringstream row(csv_line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
   std::ifstream summary(out / "summary.csv");
   std::string line;
   std::getline(summary, line);
@@ -214,9 +220,7 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   int rows = 0;
   while (std::getline(summary, line)) {
     ++rows;
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    const std::vector<std::string> cells = cellsOf(line);
     // scene .. recall, correct and distinct correct matches, keypoints,
     // ms_per_frame, then success at 5 deg / 5 cm and 2 deg / 2 cm, mean
     // inliers, repeatability, misses and those the depth prefers.
@@ -256,8 +260,9 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   std::ifstream layout_summary(layout / "summary.csv");
   std::getline(layout_summary, line);
   std::vector<std::string> variants;
-  while (std::getline(layout_summary, line)) {  // scene, sequence, method
-    variants.push_back(line.substr(0, line.find(',', line.find(',', line.find(',') + 1) + 1)));
+  while (std::getline(layout_summary, line)) {
+    const std::vector<std::string> cells = cellsOf(line);
+    variants.push_back(cells.at(0) + "," + cells.at(1) + "," + cells.at(2));  // scene, sequence, method
   }
   const std::vector<std::string> expected_variants = [] {
     std::vector<std::string> names;
