@@ -197,6 +197,7 @@ TEST(FeaturesFile, RoundTripsInYamlAndJson) {
     const Features g = readFeatures(dir.file(name));
     ASSERT_EQ(g.keypoints.size(), f.keypoints.size()) << name;
     EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_INF), 0.0) << name;
+    EXPECT_EQ(g.descriptor_layout, "n_ring=2 n_pie=8 n_bin=4 n_vec=0") << name;
     ASSERT_EQ(g.geometry.size(), f.geometry.size());
     for (size_t i = 0; i < f.keypoints.size(); ++i) {
       EXPECT_EQ(g.keypoints[i].pt, f.keypoints[i].pt);
@@ -206,6 +207,26 @@ TEST(FeaturesFile, RoundTripsInYamlAndJson) {
       EXPECT_EQ(g.geometry[i].normal, f.geometry[i].normal);
       EXPECT_FLOAT_EQ(g.geometry[i].support_radius, f.geometry[i].support_radius);
     }
+  }
+}
+
+TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {
+  const TempDir dir;
+  Features f;
+  f.keypoints.resize(2);
+  f.descriptors = cv::Mat(2, 64, CV_32F, cv::Scalar(0.125f));
+  writeFeatures(dir.file("unknown.yml"), f);  // as ORB's, or a file from before the layout was written
+  EXPECT_EQ(readFeatures(dir.file("unknown.yml")).descriptor_layout, "");
+  // Two layouts of one width: only the recorded layout tells them apart.
+  for (const char* layout : {"n_ring=2 n_pie=8 n_bin=4 n_vec=0", "n_ring=1 n_pie=8 n_bin=8 n_vec=0"}) {
+    f.descriptor_layout = layout;
+    writeFeatures(dir.file("known.yml"), f);
+    EXPECT_EQ(readFeatures(dir.file("known.yml")).descriptor_layout, layout);
+  }
+  for (const char* wrong : {"n_ring=1 n_pie=8 n_bin=8 n_vec=2", "n_ring=2 n_pie=8 n_bin=4", "rings: 2", "n_ring=0 n_pie=8 n_bin=8 n_vec=0"}) {
+    f.descriptor_layout = wrong;
+    writeFeatures(dir.file("wrong.yml"), f);
+    EXPECT_THROW(readFeatures(dir.file("wrong.yml")), InputError) << wrong;
   }
 }
 

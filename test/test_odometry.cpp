@@ -127,6 +127,32 @@ TEST_F(OdometryOnASwing, ALostFrameHoldsThePoseAndTrackingRecovers) {
   EXPECT_EQ(odometry.lostFrames(), 2);
 }
 
+TEST_F(OdometryOnASwing, DescriptorsOfAnotherLayoutAreRefusedUntilReset) {
+  // The paper's one ring of eight rank groups: as wide as the defaults' two
+  // rings of four, and meaningless against them.
+  RisasParams paper_layout;
+  paper_layout.descriptor.n_ring = 1;
+  paper_layout.descriptor.n_bin = 8;
+  const Features other = Risas::create(paper_layout)
+                             ->extract(test::renderFrame(SyntheticScene::demo(), (*poses_)[1]));
+  ASSERT_EQ(other.descriptors.cols, (*features_)[0].descriptors.cols);
+  Odometry odometry;
+  ASSERT_TRUE(odometry.track((*features_)[0]).tracked);
+  EXPECT_THROW(odometry.track(other), InputError);
+  EXPECT_EQ(odometry.frames(), 1);  // the refused frame changed nothing
+  // After reset() the new layout starts a keyframe, and is tracked against it.
+  odometry.reset(odometry.pose());
+  EXPECT_TRUE(odometry.track(other).tracked);
+  const Features next = Risas::create(paper_layout)->extract(test::renderFrame(SyntheticScene::demo(), (*poses_)[2]));
+  EXPECT_TRUE(odometry.track(next).tracked);
+  // Features of unknown layout (ORB's, older files) are matched as before.
+  Features unknown = (*features_)[3];
+  unknown.descriptor_layout.clear();
+  Odometry plain;
+  ASSERT_TRUE(plain.track((*features_)[2]).tracked);
+  EXPECT_TRUE(plain.track(unknown).tracked);
+}
+
 TEST(Odometry, ABadFrameIsAnInputError) {
   Odometry odometry;
   Features f;

@@ -84,6 +84,7 @@ TEST_F(Tools, ExtractWritesAFeaturesFile) {
   const Features f = readFeatures(file("f.yml"));
   EXPECT_GT(f.keypoints.size(), 100u);
   EXPECT_EQ(f.descriptors.cols, 64);  // 2 rings x 8 sectors x 4 rank groups, no shape labels
+  EXPECT_EQ(f.descriptor_layout, "n_ring=2 n_pie=8 n_bin=4 n_vec=0");
   EXPECT_EQ(f.geometry.size(), f.keypoints.size());
 }
 
@@ -93,6 +94,7 @@ TEST_F(Tools, ExtractTakesIntrinsicsAsNumbersAndAParameterFile) {
                     file("p.yml") + " --out " + file("g.yml"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(readFeatures(file("g.yml")).descriptors.cols, 4 * 8 * 2);
+  EXPECT_EQ(readFeatures(file("g.yml")).descriptor_layout, "n_ring=2 n_pie=4 n_bin=4 n_vec=1");
 }
 
 TEST_F(Tools, ExtractReadsTumDepthUnits) {

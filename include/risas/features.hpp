@@ -3,6 +3,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <string>
 #include <vector>
 
 namespace risas {
@@ -18,6 +19,10 @@ struct Features {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;                    // N x D CV_32F
   std::vector<KeypointGeometry> geometry; // N, or empty when unknown
+  // DescriptorParams::layout() of the descriptors; empty when unknown (ORB's,
+  // files written before the layout was recorded). Descriptors of different
+  // layouts must not be matched, even when their widths agree.
+  std::string descriptor_layout;
 
   std::vector<cv::Point3f> points() const {
     std::vector<cv::Point3f> p;
@@ -26,5 +31,9 @@ struct Features {
     return p;
   }
 };
+
+// Whether descriptors of these two layouts (Features::descriptor_layout) may
+// be matched: the same layout, or either unknown.
+inline bool layoutsAgree(const std::string& a, const std::string& b) { return a.empty() || b.empty() || a == b; }
 
 }  // namespace risas

@@ -58,9 +58,12 @@ cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre);
 RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
                         double depth_units_per_metre = kMillimetreDepthUnits);
 
-// Nodes: descriptor_type ("RISAS"), keypoints (cv::write of the
-// std::vector<cv::KeyPoint>, 0-based pixels), descriptors (N x D CV_32F),
-// points3d and normals (N x 3 CV_32F, metres / unit), support_radius (N x 1).
+// Nodes: descriptor_type ("RISAS"), descriptor_layout (DescriptorParams::
+// layout(), written when known; files without it read as unknown),
+// keypoints (cv::write of the std::vector<cv::KeyPoint>, 0-based pixels),
+// descriptors (N x D CV_32F), points3d and normals (N x 3 CV_32F, metres /
+// unit), support_radius (N x 1). readFeatures: InputError when a
+// descriptor_layout does not give the descriptors' width.
 // .yml, .yaml, .xml or .json, by the extension, as cv::FileStorage does.
 void writeFeatures(const std::string& path, const Features& features);
 Features readFeatures(const std::string& path);

@@ -57,8 +57,9 @@ class Odometry {
   // The pose of this frame. features: descriptors (CV_32F or CV_8U) with
   // one geometry entry (3D point in the camera frame) per keypoint; rows
   // whose point is not finite are ignored. InputError when descriptors and
-  // geometry differ in count, or the descriptors differ in type or width
-  // from the keyframe's.
+  // geometry differ in count, or the descriptors differ in type, width or
+  // known layout (Features::descriptor_layout) from the keyframe's: after a
+  // change of descriptor, reset() first.
   OdometryResult track(const Features& features);
 
   // Forget the keyframe; the next frame starts at world_T_camera.
@@ -74,6 +75,7 @@ class Odometry {
  private:
   struct Keyframe {
     cv::Mat descriptors;
+    std::string layout;  // Features::descriptor_layout
     std::vector<cv::Point3f> points;
     Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
     Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();

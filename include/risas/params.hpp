@@ -165,6 +165,10 @@ struct DescriptorParams {
   // frame's descriptors would run to hundreds of megabytes.
   static constexpr int kMaxDimension = 2048;
   int dimension() const { return n_ring * n_pie * n_bin * (n_vec + 1); }
+  // What the descriptor's columns count, "n_ring=2 n_pie=8 n_bin=4 n_vec=0":
+  // descriptors compare only with descriptors of the same layout, and two
+  // layouts can share a dimension (2 x 8 x 4 and 1 x 8 x 8 are both 64).
+  std::string layout() const;
   void validate() const;
   void write(cv::FileStorage& fs) const;
   void read(const cv::FileNode& node);

@@ -72,6 +72,15 @@ cv::Mat readImage(const std::string& path, int flags, const char* what) {
   throw InputError(prefix + (said.empty() ? "not an image OpenCV can decode" : said));
 }
 
+// The dimension a DescriptorParams::layout() string gives, or -1 when the
+// string is not one.
+int layoutDimension(const std::string& layout) {
+  int ring = 0, pie = 0, bin = 0, vec = 0, end = 0;
+  const int read = std::sscanf(layout.c_str(), "n_ring=%d n_pie=%d n_bin=%d n_vec=%d%n", &ring, &pie, &bin, &vec, &end);
+  if (read != 4 || end != static_cast<int>(layout.size()) || ring < 1 || pie < 1 || bin < 1 || vec < 0) return -1;
+  return ring * pie * bin * (vec + 1);
+}
+
 }  // namespace
 
 Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
@@ -184,6 +193,7 @@ void writeFeatures(const std::string& path, const Features& features) {
     radius.at<float>(i, 0) = g.support_radius;
   }
   fs << "descriptor_type" << "RISAS";
+  if (!features.descriptor_layout.empty()) fs << "descriptor_layout" << features.descriptor_layout;
   cv::write(fs, "keypoints", features.keypoints);
   fs << "descriptors" << features.descriptors;
   if (!features.geometry.empty()) {
@@ -208,6 +218,14 @@ Features readFeatures(const std::string& path) {
     const int n = static_cast<int>(features.keypoints.size());
     if (features.descriptors.rows != n || (n > 0 && features.descriptors.type() != CV_32F)) {
       throw InputError("features file " + path + ": descriptors are not " + std::to_string(n) + " CV_32F rows");
+    }
+    if (!fs["descriptor_layout"].empty()) {
+      fs["descriptor_layout"] >> features.descriptor_layout;
+      const int dimension = layoutDimension(features.descriptor_layout);
+      if (dimension < 0 || (n > 0 && dimension != features.descriptors.cols)) {
+        throw InputError("features file " + path + ": descriptor_layout '" + features.descriptor_layout +
+                         "' does not describe its " + std::to_string(features.descriptors.cols) + "-column descriptors");
+      }
     }
     if (!points.empty()) {
       if (points.rows != n || points.cols != 3 || normals.rows != n || normals.cols != 3 || radius.rows != n) {

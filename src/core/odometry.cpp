@@ -64,6 +64,7 @@ Odometry::Keyframe Odometry::keyframeOf(const Features& features) {
                      " descriptors, " + std::to_string(features.geometry.size()) + " points)");
   }
   Keyframe k;
+  k.layout = features.descriptor_layout;
   k.descriptors = cv::Mat(0, features.descriptors.cols, features.descriptors.type());
   for (int i = 0; i < n; ++i) {
     const cv::Point3f& p = features.geometry[static_cast<size_t>(i)].point;
@@ -86,6 +87,12 @@ Matrix6 Odometry::lostCovariance() const { return params_.lost_variance * Matrix
 
 OdometryResult Odometry::track(const Features& features) {
   Keyframe frame = keyframeOf(features);
+  // Equal widths do not make descriptors comparable: the counts of other
+  // bins would match, silently badly. (Type and width: matchDescriptors.)
+  if (keyframe_.valid && !layoutsAgree(frame.layout, keyframe_.layout)) {
+    throw InputError("odometry: descriptors of layout '" + frame.layout + "' cannot be matched with the keyframe's ('" +
+                     keyframe_.layout + "'); reset() after changing the descriptor");
+  }
   ++frames_;
   OdometryResult r;
   r.world_T_camera = pose_;

@@ -153,6 +153,11 @@ void DetectorParams::validate() const { validateFields(*this, "detector"); }
 void DetectorParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "detector"); }
 void DetectorParams::read(const cv::FileNode& node) { readFields(*this, node, "detector"); }
 
+std::string DescriptorParams::layout() const {
+  return "n_ring=" + std::to_string(n_ring) + " n_pie=" + std::to_string(n_pie) + " n_bin=" + std::to_string(n_bin) +
+         " n_vec=" + std::to_string(n_vec);
+}
+
 void DescriptorParams::validate() const {
   validateFields(*this, "descriptor");
   if (min_radius_px > max_radius_px) {

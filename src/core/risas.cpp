@@ -54,6 +54,7 @@ void Risas::detectAndCompute(const RgbdFrame& frame, const cv::Mat& mask, std::v
 Features Risas::extract(const RgbdFrame& frame, const cv::Mat& mask) const {
   Features features;
   detectAndCompute(frame, mask, features.keypoints, features.descriptors, &features.geometry);
+  features.descriptor_layout = impl_->params.descriptor.layout();
   return features;
 }
 

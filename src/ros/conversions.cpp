@@ -130,6 +130,7 @@ KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& hea
   message->camera_info = info;
   message->descriptor_type = "RISAS";
   message->descriptor_dim = static_cast<uint32_t>(features.descriptors.cols);
+  message->descriptor_layout = features.descriptor_layout;
   message->keypoints.resize(features.keypoints.size());
   for (size_t i = 0; i < features.keypoints.size(); ++i) {
     const cv::KeyPoint& k = features.keypoints[i];
@@ -191,6 +192,7 @@ Features fromMessage(const KeypointArray& message) {
   features.descriptors = cv::Mat(static_cast<int>(n), static_cast<int>(message.descriptor_dim), CV_32F,
                                  const_cast<float*>(message.descriptors.data()))
                              .clone();
+  features.descriptor_layout = message.descriptor_layout;
   return features;
 }
 

@@ -110,12 +110,16 @@ class OdometryNodelet : public nodelet::Nodelet {
     risas::OdometryResult r;
     try {
       const risas::Features features = fromMessage(*message);
-      if (last_dim_ && *last_dim_ != message->descriptor_dim) {
-        NODELET_INFO("descriptor size changed (%u -> %u): odometry starts a new keyframe at the current pose",
-                     *last_dim_, message->descriptor_dim);
+      // A reconfigured descriptor (its size, or its layout at the same size)
+      // cannot be matched with the keyframe's.
+      const std::string descriptor =
+          std::to_string(message->descriptor_dim) + "-d, layout '" + message->descriptor_layout + "'";
+      if (last_descriptor_ && *last_descriptor_ != descriptor) {
+        NODELET_INFO("descriptor changed (%s -> %s): odometry starts a new keyframe at the current pose",
+                     last_descriptor_->c_str(), descriptor.c_str());
         odometry_->reset(odometry_->pose());
       }
-      last_dim_ = message->descriptor_dim;
+      last_descriptor_ = descriptor;
       r = odometry_->track(features);
     } catch (const risas::InputError& e) {
       if (errors_.shouldLog(e.what())) NODELET_ERROR("skipping KeypointArray: %s", e.what());
@@ -167,7 +171,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   std::string odom_frame_, base_frame_;
   bool publish_tf_ = true;
   int path_length_ = 10000;
-  std::optional<uint32_t> last_dim_;
+  std::optional<std::string> last_descriptor_;  // the last message's descriptor size and layout
   std::optional<Eigen::Isometry3d> base_T_camera_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

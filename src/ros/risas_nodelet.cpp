@@ -225,8 +225,10 @@ class RisasNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(frame_mutex_);
     std::vector<cv::DMatch> matches;
     MotionEstimate motion;
-    if (previous_ && previous_->features.descriptors.cols != features.descriptors.cols) {
-      NODELET_INFO("descriptor size changed to %d: not matching across the change", features.descriptors.cols);
+    if (previous_ && (previous_->features.descriptors.cols != features.descriptors.cols ||
+                      !risas::layoutsAgree(previous_->features.descriptor_layout, features.descriptor_layout))) {
+      NODELET_INFO("descriptor changed to %d-d, layout '%s': not matching across the change",
+                   features.descriptors.cols, features.descriptor_layout.c_str());
     } else if (previous_) {
       matches = risas::matchDescriptors(features.descriptors, previous_->features.descriptors, setup->params.match);
       motion = risas::estimateRigidMotion(features.points(), previous_->features.points(), matches, setup->params.motion);

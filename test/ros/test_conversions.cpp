@@ -234,6 +234,7 @@ TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
   EXPECT_EQ(message->descriptor_type, "RISAS");
   const int dimension = risas::RisasParams().descriptor.dimension();
   EXPECT_EQ(message->descriptor_dim, static_cast<uint32_t>(dimension));
+  EXPECT_EQ(message->descriptor_layout, risas::RisasParams().descriptor.layout());
   EXPECT_EQ(message->descriptors.size(), f.keypoints.size() * dimension);
   EXPECT_EQ(message->header.stamp, m.rgb.header.stamp);
   // The documented zero-copy view is the same matrix.
@@ -242,6 +243,7 @@ TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
 
   const risas::Features back = fromMessage(*message);
   ASSERT_EQ(back.keypoints.size(), f.keypoints.size());
+  EXPECT_EQ(back.descriptor_layout, f.descriptor_layout);
   for (size_t i = 0; i < f.keypoints.size(); ++i) {
     EXPECT_EQ(back.keypoints[i].pt, f.keypoints[i].pt);
     EXPECT_EQ(back.keypoints[i].angle, f.keypoints[i].angle);

@@ -77,17 +77,25 @@ using risas_ros::fromTransform;
 
 // Sets one int of a dynamic_reconfigure server; the config the server holds
 // afterwards, or nothing when the call failed.
-std::optional<dynamic_reconfigure::Config> setIntParameter(const std::string& server, const std::string& name,
-                                                           int value) {
+// Sets the integer parameters in one request (one reconfiguration).
+std::optional<dynamic_reconfigure::Config> setIntParameters(const std::string& server,
+                                                            const std::vector<std::pair<std::string, int>>& values) {
   dynamic_reconfigure::Reconfigure srv;
-  dynamic_reconfigure::IntParameter p;
-  p.name = name;
-  p.value = value;
-  srv.request.config.ints.push_back(p);
+  for (const auto& [name, value] : values) {
+    dynamic_reconfigure::IntParameter p;
+    p.name = name;
+    p.value = value;
+    srv.request.config.ints.push_back(p);
+  }
   if (!ros::service::waitForService(server + "/set_parameters", ros::Duration(10.0)) ||
       !ros::service::call(server + "/set_parameters", srv))
     return std::nullopt;
   return srv.response.config;
+}
+
+std::optional<dynamic_reconfigure::Config> setIntParameter(const std::string& server, const std::string& name,
+                                                           int value) {
+  return setIntParameters(server, {{name, value}});
 }
 
 int intIn(const dynamic_reconfigure::Config& config, const std::string& name) {
@@ -114,6 +122,7 @@ TEST_F(Pipeline, KeypointArraysCarryDescriptorsAndPointsConsistentWithDepth) {
     EXPECT_EQ(array->descriptor_type, "RISAS");
     const size_t dimension = risas::RisasParams().descriptor.dimension();  // config/risas.yaml's
     EXPECT_EQ(array->descriptor_dim, dimension);
+    EXPECT_EQ(array->descriptor_layout, risas::RisasParams().descriptor.layout());
     EXPECT_EQ(array->descriptors.size(), array->keypoints.size() * dimension);
     EXPECT_GT(array->keypoints.size(), 100u);
     EXPECT_EQ(array->header.frame_id, "camera_rgb_optical_frame");
@@ -254,6 +263,43 @@ TEST_F(Pipeline, ReconfiguringNBinChangesTheDescriptorSizeAndMatchingResumes) {
   ASSERT_TRUE(setIntParameter("/risas/descriptor", "n_bin", defaults.n_bin));
 }
 
+TEST_F(Pipeline, AnotherLayoutOfTheSameSizeIsNotMatchedAcrossTheChange) {
+  Recorder<geometry_msgs::TransformStamped> motion(nh, "/risas/motion");
+  Recorder<rosgraph_msgs::Log> log(nh, "/rosout");
+  ASSERT_TRUE(keypoints.waitForCount(1, 60.0));
+  // The paper's one ring of eight rank groups: 64-d, as the defaults' two
+  // rings of four, and meaningless against them.
+  const risas::DescriptorParams defaults;
+  risas::DescriptorParams paper_layout;
+  paper_layout.n_ring = 1;
+  paper_layout.n_bin = 8;
+  ASSERT_EQ(paper_layout.dimension(), defaults.dimension());
+  ASSERT_TRUE(setIntParameters("/risas/descriptor", {{"n_ring", 1}, {"n_bin", 8}}));
+  const auto isPaperLayout = [&](const auto& a) { return a->descriptor_layout == paper_layout.layout(); };
+  EXPECT_TRUE(keypoints.waitFor(
+      [&](const auto& m) { return std::count_if(m.begin(), m.end(), isPaperLayout) >= 3; }, 30.0))
+      << "descriptor_layout never became " << paper_layout.layout();
+  const auto messages = keypoints.messages();
+  const auto first = std::find_if(messages.begin(), messages.end(), isPaperLayout);
+  ASSERT_NE(first, messages.end());
+  EXPECT_EQ((*first)->descriptor_dim, static_cast<uint32_t>(defaults.dimension()));
+  // The node says it does not match across the change, and matches again after it.
+  EXPECT_TRUE(log.waitFor(
+      [&](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [&](const auto& l) {
+          return l->msg.find("layout '" + paper_layout.layout() + "': not matching across the change") !=
+                 std::string::npos;
+        });
+      },
+      10.0));
+  const ros::Time changed = (*first)->header.stamp;
+  EXPECT_TRUE(motion.waitFor(
+      [&](const auto& m) { return std::any_of(m.begin(), m.end(), [&](const auto& t) { return t->header.stamp > changed; }); },
+      30.0))
+      << "no motion after the descriptor layout changed";
+  ASSERT_TRUE(setIntParameters("/risas/descriptor", {{"n_ring", defaults.n_ring}, {"n_bin", defaults.n_bin}}));
+}
+
 // ----------------------------------------------------------- OdometryPreset --
 
 // demo.launch params:=config/odometry.yaml: the fields the preset sets reach
@@ -375,6 +421,38 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
       << "no error for a malformed KeypointArray";
   const size_t before = odom.messages().size();
   EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
+}
+
+TEST(Odometry, ANewDescriptorLayoutStartsANewKeyframeAndTrackingGoesOn) {
+  ros::NodeHandle nh;
+  Recorder<nav_msgs::Odometry> odom(nh, "/odom");
+  Recorder<rosgraph_msgs::Log> log(nh, "/rosout");
+  ASSERT_TRUE(odom.waitForCount(1, 60.0)) << "no odometry on /odom";
+  // The paper's one ring of eight rank groups: as wide as the defaults' two
+  // rings of four, so only descriptor_layout tells the odometry.
+  const risas::DescriptorParams defaults;
+  ASSERT_TRUE(setIntParameters("/risas/descriptor", {{"n_ring", 1}, {"n_bin", 8}}));
+  const auto said = [&](const std::string& fragment) {
+    return log.waitFor(
+        [&](const auto& m) {
+          return std::any_of(m.begin(), m.end(), [&](const auto& l) { return l->msg.find(fragment) != std::string::npos; });
+        },
+        20.0);
+  };
+  EXPECT_TRUE(said("n_ring=1 n_pie=8 n_bin=8 n_vec=0'): odometry starts a new keyframe at the current pose"));
+  // Tracked again on the new layout: ten poses with a measured covariance
+  // after the change, and no array refused.
+  const ros::Time changed = ros::Time::now();
+  EXPECT_TRUE(odom.waitFor(
+      [&](const auto& m) {
+        return std::count_if(m.begin(), m.end(), [&](const auto& o) {
+                 return o->header.stamp > changed && o->pose.covariance[0] < 1000.0;
+               }) >= 10;
+      },
+      30.0))
+      << "odometry not tracked after the layout changed";
+  for (const auto& l : log.messages()) EXPECT_EQ(l->msg.find("skipping KeypointArray"), std::string::npos) << l->msg;
+  ASSERT_TRUE(setIntParameters("/risas/descriptor", {{"n_ring", defaults.n_ring}, {"n_bin", defaults.n_bin}}));
 }
 
 // ---------------------------------------------------------------- BadInput --
