@@ -223,7 +223,8 @@ TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {
     writeFeatures(dir.file("known.yml"), f);
     EXPECT_EQ(readFeatures(dir.file("known.yml")).descriptor_layout, layout);
   }
-  for (const char* wrong : {"n_ring=1 n_pie=8 n_bin=8 n_vec=2", "n_ring=2 n_pie=8 n_bin=4", "rings: 2", "n_ring=0 n_pie=8 n_bin=8 n_vec=0"}) {
+  for (const char* wrong : {"n_ring=1 n_pie=8 n_bin=8 n_vec=2", "n_ring=2 n_pie=8 n_bin=4", "rings: 2",
+                            "n_ring=0 n_pie=8 n_bin=8 n_vec=0", "n_ring=99999999999 n_pie=8 n_bin=4 n_vec=0"}) {
     f.descriptor_layout = wrong;
     writeFeatures(dir.file("wrong.yml"), f);
     EXPECT_THROW(readFeatures(dir.file("wrong.yml")), InputError) << wrong;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -73,12 +74,14 @@ cv::Mat readImage(const std::string& path, int flags, const char* what) {
 }
 
 // The dimension a DescriptorParams::layout() string gives, or -1 when the
-// string is not one.
-int layoutDimension(const std::string& layout) {
+// string is not one. At most four digits a number: no field of a valid
+// layout has more, and the reads and the product cannot overflow.
+int64_t layoutDimension(const std::string& layout) {
   int ring = 0, pie = 0, bin = 0, vec = 0, end = 0;
-  const int read = std::sscanf(layout.c_str(), "n_ring=%d n_pie=%d n_bin=%d n_vec=%d%n", &ring, &pie, &bin, &vec, &end);
+  const int read =
+      std::sscanf(layout.c_str(), "n_ring=%4d n_pie=%4d n_bin=%4d n_vec=%4d%n", &ring, &pie, &bin, &vec, &end);
   if (read != 4 || end != static_cast<int>(layout.size()) || ring < 1 || pie < 1 || bin < 1 || vec < 0) return -1;
-  return ring * pie * bin * (vec + 1);
+  return int64_t{ring} * pie * bin * (vec + 1);
 }
 
 }  // namespace
@@ -221,7 +224,7 @@ Features readFeatures(const std::string& path) {
     }
     if (!fs["descriptor_layout"].empty()) {
       fs["descriptor_layout"] >> features.descriptor_layout;
-      const int dimension = layoutDimension(features.descriptor_layout);
+      const int64_t dimension = layoutDimension(features.descriptor_layout);
       if (dimension < 0 || (n > 0 && dimension != features.descriptors.cols)) {
         throw InputError("features file " + path + ": descriptor_layout '" + features.descriptor_layout +
                          "' does not describe its " + std::to_string(features.descriptors.cols) + "-column descriptors");
