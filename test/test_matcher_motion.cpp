@@ -1,4 +1,4 @@
-// NNDR matching on hand-made descriptors and RANSAC on known motions.
+// NNDR matching on hand-made descriptors; RANSAC and the reprojection refit on known motions.
 #include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
@@ -152,6 +152,106 @@ TEST(Motion, TooFewOrInconsistentMatchesGiveNoMotion) {
   EXPECT_EQ(m.inliers.size(), 60u);
   c.matches.emplace_back(0, 99, 0.0f);
   EXPECT_THROW(estimateRigidMotion(c.query, c.train, c.matches), InputError);
+}
+
+// Points 1-3 m ahead of the train camera, seen from a query camera moved by
+// `truth` (train_T_query), both depths with a Kinect's noise along the
+// rays (sigma 1.5 mm at 1 m, growing with z^2): each point slides along its
+// own ray, its bearing exact.
+MotionCase alongTheRays(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), depth(1.0, 3.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  MotionCase c;
+  c.truth = Eigen::Isometry3d::Identity();
+  c.truth.linear() = Eigen::AngleAxisd(0.09, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
+  c.truth.translation() = Eigen::Vector3d(0.08, -0.02, 0.05);
+  const auto slide = [&](const Eigen::Vector3d& p) {
+    const double noise = gauss(rng) * 0.0015 * p.z() * p.z();
+    return Eigen::Vector3d(p * (1.0 + noise / p.z()));
+  };
+  for (int i = 0; i < n; ++i) {
+    const double z = depth(rng), x = u(rng), y = u(rng);
+    const Eigen::Vector3d train(0.4 * x * z, 0.3 * y * z, z);
+    const Eigen::Vector3d query = slide(c.truth.inverse() * train), seen = slide(train);
+    c.query.emplace_back(static_cast<float>(query.x()), static_cast<float>(query.y()), static_cast<float>(query.z()));
+    c.train.emplace_back(static_cast<float>(seen.x()), static_cast<float>(seen.y()), static_cast<float>(seen.z()));
+    c.matches.emplace_back(i, i, 0.0f);
+    c.truly_inlier.push_back(1);
+  }
+  return c;
+}
+
+TEST(Motion, TheReprojectionRefitTakesOnlyTheTrainFramesDepthNoise) {
+  // Over 20 draws of 80 points the 3D refit carries both frames' depth
+  // noise into the motion; the reprojection refit only the train frame's.
+  double rigid_deg = 0.0, refined_deg = 0.0, rigid_m = 0.0, refined_m = 0.0;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    const MotionCase c = alongTheRays(80, seed);
+    const MotionEstimate rigid = estimateRigidMotion(c.query, c.train, c.matches);
+    ASSERT_TRUE(rigid.valid);
+    const MotionEstimate refined = refineByReprojection(c.query, c.train, c.matches, rigid, 0.004);
+    EXPECT_EQ(refined.inliers, rigid.inliers);
+    EXPECT_EQ(refined.num_inliers, rigid.num_inliers);
+    EXPECT_GT(refined.rmse, 0.0);
+    EXPECT_LT(refined.rmse, 0.03);
+    rigid_deg += rotationErrorDeg(rigid.train_T_query, c.truth);
+    refined_deg += rotationErrorDeg(refined.train_T_query, c.truth);
+    rigid_m += (rigid.train_T_query.translation() - c.truth.translation()).norm();
+    refined_m += (refined.train_T_query.translation() - c.truth.translation()).norm();
+  }
+  // Measured: 0.126 against 0.003 degrees, 5.8 against 0.1 mm. A slide along
+  // a train ray moves the point's image in the query camera only by the
+  // baseline's parallax, a tiny fraction of the slide.
+  EXPECT_LT(refined_deg, 0.1 * rigid_deg);
+  EXPECT_LT(refined_m, 0.1 * rigid_m);
+}
+
+TEST(Motion, TheReprojectionRefitConvergesFromAnOffStart) {
+  // Exact points; the estimate handed in is 2 degrees and 3 cm off.
+  const MotionCase c = makeCase(60, 0.0, 0.0, 6);
+  MotionEstimate off;
+  off.valid = true;
+  off.inliers.assign(c.matches.size(), 1);
+  off.num_inliers = static_cast<int>(c.matches.size());
+  off.train_T_query = c.truth;
+  off.train_T_query.rotate(Eigen::AngleAxisd(2.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()));
+  off.train_T_query.translation() += Eigen::Vector3d(0.03, 0.0, 0.0);
+  const MotionEstimate refined = refineByReprojection(c.query, c.train, c.matches, off, 0.004);
+  EXPECT_LT(rotationErrorDeg(refined.train_T_query, c.truth), 1e-4);
+  EXPECT_LT((refined.train_T_query.translation() - c.truth.translation()).norm(), 1e-5);
+  EXPECT_LT(refined.rmse, 1e-5);
+  EXPECT_EQ(refined.inliers, off.inliers);
+}
+
+TEST(Motion, TheReprojectionRefitLeavesWhatItCannotImprove) {
+  MotionCase c = makeCase(60, 0.0, 0.0, 7);
+  const MotionEstimate exact = estimateRigidMotion(c.query, c.train, c.matches);
+  ASSERT_TRUE(exact.valid);
+  // At the optimum it stays there (but for the points' float rounding).
+  const MotionEstimate again = refineByReprojection(c.query, c.train, c.matches, exact, 0.004);
+  EXPECT_LT(rotationErrorDeg(again.train_T_query, c.truth), 1e-4);
+  EXPECT_LT((again.train_T_query.translation() - c.truth.translation()).norm(), 1e-5);
+  // Not valid, or two usable inliers: unchanged.
+  MotionEstimate invalid = exact;
+  invalid.valid = false;
+  invalid.train_T_query.translation().x() += 0.1;
+  EXPECT_TRUE(refineByReprojection(c.query, c.train, c.matches, invalid, 0.004).train_T_query.isApprox(
+      invalid.train_T_query, 0.0));
+  MotionEstimate two = invalid;
+  two.valid = true;
+  two.inliers.assign(c.matches.size(), 0);
+  two.inliers[0] = two.inliers[1] = 1;
+  EXPECT_TRUE(refineByReprojection(c.query, c.train, c.matches, two, 0.004).train_T_query.isApprox(
+      two.train_T_query, 0.0));
+  // Points behind the query camera are not observations.
+  for (cv::Point3f& q : c.query) q.z = -q.z;
+  EXPECT_TRUE(refineByReprojection(c.query, c.train, c.matches, two, 0.004).train_T_query.isApprox(
+      two.train_T_query, 0.0));
+  c.matches.emplace_back(0, 99, 0.0f);
+  MotionEstimate with_bad_index = exact;
+  with_bad_index.inliers.push_back(1);
+  EXPECT_THROW(refineByReprojection(c.query, c.train, c.matches, with_bad_index, 0.004), InputError);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // risas::Odometry on rendered sequences with known motion: tracking, the
-// keyframe rule, lost and recovered, determinism, reset, and the
-// covariance from the inliers.
+// keyframe rule, lost and recovered, determinism, reset, the covariance
+// from the inliers, and the reprojection refit on Kinect-like depth.
 #include "synthetic_fixtures.hpp"
 
 #include "risas/errors.hpp"
@@ -151,6 +151,36 @@ TEST_F(OdometryOnASwing, DescriptorsOfAnotherLayoutAreRefusedUntilReset) {
   Odometry plain;
   ASSERT_TRUE(plain.track((*features_)[2]).tracked);
   EXPECT_TRUE(plain.track(unknown).tracked);
+}
+
+TEST(OdometryOnKinectDepth, TheReprojectionRefitTracksCloserThanThe3DRefit) {
+  // The swing seen as a Kinect sees it: depth quantised and noisy along the
+  // rays, grey noise. The same features tracked with and without the
+  // refit; every frame's error against the truth.
+  const std::vector<Eigen::Isometry3d> poses = swing(8, 2.0);
+  const SyntheticScene scene = SyntheticScene::demo();
+  const auto risas = Risas::create();
+  std::vector<Features> features;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    features.push_back(risas->extract(test::kinectLikeFrame(scene, poses[k], 11 + k)));
+  }
+  OdometryParams rigid_params;
+  rigid_params.reprojection_huber = 0.0;
+  Odometry refined, rigid(rigid_params);
+  double refined_m = 0.0, rigid_m = 0.0, refined_deg = 0.0, rigid_deg = 0.0;
+  for (size_t k = 0; k < features.size(); ++k) {
+    const OdometryResult a = refined.track(features[k]), b = rigid.track(features[k]);
+    ASSERT_TRUE(a.tracked && b.tracked) << "frame " << k;
+    const Eigen::Isometry3d truth = poses[0].inverse() * poses[k];
+    refined_m += (a.world_T_camera.translation() - truth.translation()).norm();
+    rigid_m += (b.world_T_camera.translation() - truth.translation()).norm();
+    refined_deg += angleDegBetween(a.world_T_camera, truth);
+    rigid_deg += angleDegBetween(b.world_T_camera, truth);
+  }
+  // Measured, mean over the frames: 0.6 against 10.6 mm, 0.018 against 0.36
+  // degrees.
+  EXPECT_LT(refined_m, 0.25 * rigid_m);
+  EXPECT_LT(refined_deg, 0.25 * rigid_deg);
 }
 
 TEST(Odometry, ABadFrameIsAnInputError) {

@@ -206,6 +206,13 @@ struct OdometryParams {
   int keyframe_inliers = 50;
   double keyframe_translation = 0.10;  // metres
   double keyframe_rotation_deg = 10.0;
+  // Refine each frame's RANSAC motion on the keyframe points' reprojection
+  // errors into the frame (refineByReprojection) with this Huber width in
+  // normalised image units (pixels / focal length); 0: keep the Umeyama
+  // refit of the 3D points (the pose-recovery evaluation's). The depth's
+  // noise lies along the rays: the 3D refit takes all of it, the
+  // reprojection only the keyframe's (docs/odometry.md).
+  double reprojection_huber = 0.004;
   // Variance (m^2, rad^2) reported for each axis while lost, as rtabmap's
   // odometry does: large enough that a filter ignores the pose.
   double lost_variance = 9999.0;

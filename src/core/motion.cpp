@@ -1,17 +1,37 @@
 #include "risas/motion.hpp"
 
+#include "risas/cross_product.hpp"
 #include "risas/errors.hpp"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <utility>
 
 namespace risas {
 namespace {
 
 using Points = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// The points match i pairs, as (query, train); InputError on an index out
+// of range.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> matchedPoints(const std::vector<cv::Point3f>& query_points,
+                                                          const std::vector<cv::Point3f>& train_points,
+                                                          const std::vector<cv::DMatch>& matches, size_t i) {
+  const cv::DMatch& m = matches[i];
+  if (m.queryIdx < 0 || m.trainIdx < 0 || m.queryIdx >= static_cast<int>(query_points.size()) ||
+      m.trainIdx >= static_cast<int>(train_points.size())) {
+    throw InputError("match " + std::to_string(i) + " indexes a point that does not exist");
+  }
+  const cv::Point3f& q = query_points[static_cast<size_t>(m.queryIdx)];
+  const cv::Point3f& t = train_points[static_cast<size_t>(m.trainIdx)];
+  return {Eigen::Vector3d(q.x, q.y, q.z), Eigen::Vector3d(t.x, t.y, t.z)};
+}
 
 Eigen::Isometry3d solveUmeyama(const Points& src, const Points& dst) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -42,6 +62,52 @@ int countInliers(const Eigen::Isometry3d& T, const Points& src, const Points& ds
   return count;
 }
 
+// A train point and the bearing (x/z, y/z) of its match in the query frame.
+struct Observation {
+  Eigen::Vector3d train_point;
+  Eigen::Vector2d query_bearing;
+};
+
+// The Huber cost of the observations' reprojection errors under
+// query_T_train, and (when H is given) its Gauss-Newton normal equations
+// H d = -g for a small motion d = (translation, rotation) applied on the
+// left. Infinite when a point falls behind the query camera.
+double reprojectionCost(const std::vector<Observation>& observations, const Eigen::Isometry3d& query_T_train,
+                        double huber, Matrix6* H, Vector6* g) {
+  double cost = 0.0;
+  if (H) {
+    H->setZero();
+    g->setZero();
+  }
+  for (const Observation& o : observations) {
+    const Eigen::Vector3d X = query_T_train * o.train_point;
+    if (!(X.z() > 1e-6)) return std::numeric_limits<double>::infinity();
+    const Eigen::Vector2d r = X.head<2>() / X.z() - o.query_bearing;
+    const double e = r.norm();
+    cost += e <= huber ? 0.5 * e * e : huber * (e - 0.5 * huber);
+    if (!H) continue;
+    const double w = e <= huber ? 1.0 : huber / e;  // IRLS weight of the Huber loss
+    Eigen::Matrix<double, 2, 3> projection;
+    projection << 1.0, 0.0, -X.x() / X.z(), 0.0, 1.0, -X.y() / X.z();
+    projection /= X.z();
+    Eigen::Matrix<double, 3, 6> motion;
+    motion.leftCols<3>() = Eigen::Matrix3d::Identity();
+    motion.rightCols<3>() = -crossProductMatrix(X);
+    const Eigen::Matrix<double, 2, 6> J = projection * motion;
+    *H += w * J.transpose() * J;
+    *g += w * J.transpose() * r;
+  }
+  return cost;
+}
+
+Eigen::Isometry3d smallMotion(const Vector6& d) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const double angle = d.tail<3>().norm();
+  if (angle > 0.0) T.linear() = Eigen::AngleAxisd(angle, d.tail<3>() / angle).toRotationMatrix();
+  T.translation() = d.head<3>();
+  return T;
+}
+
 }  // namespace
 
 MotionEstimate estimateRigidMotion(const std::vector<cv::Point3f>& query_points,
@@ -51,15 +117,9 @@ MotionEstimate estimateRigidMotion(const std::vector<cv::Point3f>& query_points,
   const Eigen::Index n = static_cast<Eigen::Index>(matches.size());
   Points src(3, n), dst(3, n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const cv::DMatch& m = matches[static_cast<size_t>(i)];
-    if (m.queryIdx < 0 || m.trainIdx < 0 || m.queryIdx >= static_cast<int>(query_points.size()) ||
-        m.trainIdx >= static_cast<int>(train_points.size())) {
-      throw InputError("match " + std::to_string(i) + " indexes a point that does not exist");
-    }
-    const cv::Point3f& q = query_points[static_cast<size_t>(m.queryIdx)];
-    const cv::Point3f& t = train_points[static_cast<size_t>(m.trainIdx)];
-    src.col(i) = Eigen::Vector3d(q.x, q.y, q.z);
-    dst.col(i) = Eigen::Vector3d(t.x, t.y, t.z);
+    const auto [q, t] = matchedPoints(query_points, train_points, matches, static_cast<size_t>(i));
+    src.col(i) = q;
+    dst.col(i) = t;
   }
 
   MotionEstimate result;
@@ -130,6 +190,46 @@ MotionEstimate estimateRigidMotion(const std::vector<cv::Point3f>& query_points,
   result.num_inliers = count;
   result.rmse = std::sqrt(sum_sq / std::max(count, 1));
   return result;
+}
+
+MotionEstimate refineByReprojection(const std::vector<cv::Point3f>& query_points,
+                                    const std::vector<cv::Point3f>& train_points,
+                                    const std::vector<cv::DMatch>& matches, const MotionEstimate& estimate,
+                                    double huber) {
+  if (!estimate.valid || estimate.inliers.size() != matches.size()) return estimate;
+  std::vector<Observation> observations;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> inlier_pairs;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (!estimate.inliers[i]) continue;
+    const auto [q, t] = matchedPoints(query_points, train_points, matches, i);
+    inlier_pairs.emplace_back(q, t);
+    if (q.z() > 0.0 && t.z() > 0.0) observations.push_back({t, q.head<2>() / q.z()});
+  }
+  if (observations.size() < 3) return estimate;
+
+  Eigen::Isometry3d query_T_train = estimate.train_T_query.inverse();
+  Matrix6 H;
+  Vector6 g;
+  double cost = reprojectionCost(observations, query_T_train, huber, &H, &g);
+  const double initial_cost = cost;
+  for (int iteration = 0; iteration < 20 && std::isfinite(cost); ++iteration) {
+    const Vector6 d = -(H + 1e-12 * Matrix6::Identity()).ldlt().solve(g);
+    if (!d.allFinite()) break;
+    const Eigen::Isometry3d candidate = smallMotion(d) * query_T_train;
+    const double candidate_cost = reprojectionCost(observations, candidate, huber, nullptr, nullptr);
+    if (!(candidate_cost < cost)) break;  // converged, or a step that does not descend
+    query_T_train = candidate;
+    cost = reprojectionCost(observations, query_T_train, huber, &H, &g);
+    if (d.norm() < 1e-10) break;
+  }
+  if (!(cost < initial_cost)) return estimate;
+
+  MotionEstimate refined = estimate;
+  refined.train_T_query = query_T_train.inverse();
+  double sum_sq = 0.0;
+  for (const auto& [q, t] : inlier_pairs) sum_sq += (refined.train_T_query * q - t).squaredNorm();
+  refined.rmse = std::sqrt(sum_sq / static_cast<double>(inlier_pairs.size()));
+  return refined;
 }
 
 }  // namespace risas

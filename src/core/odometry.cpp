@@ -1,5 +1,6 @@
 #include "risas/odometry.hpp"
 
+#include "risas/cross_product.hpp"
 #include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
@@ -10,13 +11,6 @@ namespace risas {
 namespace {
 
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-// [v]x, the cross-product matrix.
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
 
 }  // namespace
 
@@ -32,7 +26,7 @@ Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& target_points, doub
   for (const Eigen::Vector3d& q : target_points) {
     Eigen::Matrix<double, 3, 6> J;
     J.leftCols<3>() = Eigen::Matrix3d::Identity();
-    J.rightCols<3>() = -skew(q);
+    J.rightCols<3>() = -crossProductMatrix(q);
     H += J.transpose() * J;
   }
   // A floor on the noise (1 mm) keeps an exact fit from claiming certainty;
@@ -122,7 +116,10 @@ OdometryResult Odometry::track(const Features& features) {
   }
 
   const std::vector<cv::DMatch> matches = matchDescriptors(frame.descriptors, keyframe_.descriptors, match_);
-  const MotionEstimate m = estimateRigidMotion(frame.points, keyframe_.points, matches, motion_);
+  MotionEstimate m = estimateRigidMotion(frame.points, keyframe_.points, matches, motion_);
+  if (params_.reprojection_huber > 0.0) {
+    m = refineByReprojection(frame.points, keyframe_.points, matches, m, params_.reprojection_huber);
+  }
   r.matches = static_cast<int>(matches.size());
   r.inliers = m.num_inliers;
   r.rmse = m.rmse;

@@ -77,6 +77,7 @@ void visitFields(OdometryParams& p, V&& v) {
   v("keyframe_inliers", p.keyframe_inliers, 3, 100000);
   v("keyframe_translation", p.keyframe_translation, 0.0, 100.0);
   v("keyframe_rotation_deg", p.keyframe_rotation_deg, 0.0, 180.0);
+  v("reprojection_huber", p.reprojection_huber, 0.0, 1.0);
   v("lost_variance", p.lost_variance, 1.0, 1e12);
 }
 
