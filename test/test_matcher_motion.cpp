@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 namespace risas {
@@ -244,10 +246,32 @@ TEST(Motion, TheReprojectionRefitLeavesWhatItCannotImprove) {
   two.inliers[0] = two.inliers[1] = 1;
   EXPECT_TRUE(refineByReprojection(c.query, c.train, c.matches, two, 0.004).train_T_query.isApprox(
       two.train_T_query, 0.0));
-  // Points behind the query camera are not observations.
-  for (cv::Point3f& q : c.query) q.z = -q.z;
-  EXPECT_TRUE(refineByReprojection(c.query, c.train, c.matches, two, 0.004).train_T_query.isApprox(
-      two.train_T_query, 0.0));
+  // Points behind the query camera are not observations: a valid estimate
+  // with every inlier behind it is left where it is, though it is off.
+  MotionEstimate off = exact;
+  off.train_T_query.translation().x() += 0.1;
+  std::vector<cv::Point3f> behind = c.query;
+  for (cv::Point3f& q : behind) q.z = -q.z;
+  EXPECT_TRUE(
+      refineByReprojection(behind, c.train, c.matches, off, 0.004).train_T_query.isApprox(off.train_T_query, 0.0));
+  // The same off estimate in front of the camera is refined (so that the
+  // line above tests the points' side, not an estimate left alone anyway).
+  EXPECT_LT((refineByReprojection(c.query, c.train, c.matches, off, 0.004).train_T_query.translation() -
+             c.truth.translation())
+                .norm(),
+            1e-3);
+}
+
+TEST(Motion, TheReprojectionRefitRefusesWhatIsNotItsInput) {
+  MotionCase c = makeCase(60, 0.0, 0.0, 7);
+  const MotionEstimate exact = estimateRigidMotion(c.query, c.train, c.matches);
+  ASSERT_TRUE(exact.valid);
+  for (double huber : {0.0, -0.004, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    EXPECT_THROW(refineByReprojection(c.query, c.train, c.matches, exact, huber), InputError) << huber;
+  }
+  MotionEstimate one_flag_short = exact;
+  one_flag_short.inliers.pop_back();
+  EXPECT_THROW(refineByReprojection(c.query, c.train, c.matches, one_flag_short, 0.004), InputError);
   c.matches.emplace_back(0, 99, 0.0f);
   MotionEstimate with_bad_index = exact;
   with_bad_index.inliers.push_back(1);

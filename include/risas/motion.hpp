@@ -39,7 +39,9 @@ MotionEstimate estimateRigidMotion(const std::vector<cv::Point3f>& query_points,
 // The inliers are kept; rmse becomes their 3D RMSE under the refined motion.
 // An estimate that is not valid, with fewer than 3 usable inliers (in front
 // of both cameras), or whose robust cost the refinement does not lower is
-// returned unchanged. Throws InputError on an index out of range.
+// returned unchanged. Throws InputError on an index out of range, a valid
+// estimate whose inlier flags are not one per match, or a huber that is not
+// positive and finite (the odometry's 0, "no refit", skips the call).
 MotionEstimate refineByReprojection(const std::vector<cv::Point3f>& query_points,
                                     const std::vector<cv::Point3f>& train_points,
                                     const std::vector<cv::DMatch>& matches, const MotionEstimate& estimate,

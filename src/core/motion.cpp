@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <utility>
 
 namespace risas {
@@ -196,7 +197,14 @@ MotionEstimate refineByReprojection(const std::vector<cv::Point3f>& query_points
                                     const std::vector<cv::Point3f>& train_points,
                                     const std::vector<cv::DMatch>& matches, const MotionEstimate& estimate,
                                     double huber) {
-  if (!estimate.valid || estimate.inliers.size() != matches.size()) return estimate;
+  if (!(huber > 0.0) || !std::isfinite(huber)) {
+    throw InputError("the reprojection refit's Huber width must be positive and finite, got " + std::to_string(huber));
+  }
+  if (!estimate.valid) return estimate;
+  if (estimate.inliers.size() != matches.size()) {
+    throw InputError("the estimate has " + std::to_string(estimate.inliers.size()) + " inlier flags for " +
+                     std::to_string(matches.size()) + " matches");
+  }
   std::vector<Observation> observations;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> inlier_pairs;
   for (size_t i = 0; i < matches.size(); ++i) {

@@ -209,6 +209,23 @@ void fuzzFrame(Bytes& in) {
   checkFeatures(frame, keypoints, descriptors, geometry, risas->descriptorSize());
 }
 
+// The odometry's refit of a RANSAC estimate keeps its inliers, keeps a
+// valid motion finite, and refuses nothing but a Huber width that is not
+// positive and finite (the estimate's indices were checked by RANSAC).
+void refineAndCheck(Bytes& in, const std::vector<cv::Point3f>& q, const std::vector<cv::Point3f>& t,
+                    const std::vector<cv::DMatch>& matches, const risas::MotionEstimate& m) {
+  const double huber = in.number(0.0, 0.05);
+  const bool usable = huber > 0.0 && std::isfinite(huber);
+  try {
+    const risas::MotionEstimate r = risas::refineByReprojection(q, t, matches, m, huber);
+    require(usable, "a Huber width that is not positive and finite refused");
+    require(r.valid == m.valid && r.inliers == m.inliers && r.num_inliers == m.num_inliers, "inliers kept");
+    require(!r.valid || r.train_T_query.matrix().allFinite(), "finite refined motion");
+  } catch (const risas::InputError&) {
+    require(!usable, "only the Huber width refused");
+  }
+}
+
 void fuzzMatchingAndMotion(Bytes& in) {
   const int rows_q = in.in(0, 20);
   const int rows_t = in.in(0, 20);
@@ -235,14 +252,31 @@ void fuzzMatchingAndMotion(Bytes& in) {
     p.z = static_cast<float>(in.number(0, 4));
     return p;
   };
+  // Most train points are the query points moved by one rigid motion (and
+  // now and then nudged), and most matches pair them, so that RANSAC finds
+  // a valid estimate for the refit to work on; the rest are arbitrary (and
+  // one match in 32 may index a point that does not exist).
+  const Eigen::Isometry3d motion_truth = Eigen::Translation3d(in.number(-0.5, 0.5), 0.1, 0.2) *
+                                         Eigen::AngleAxisd(in.in(-30, 30) * 0.01, Eigen::Vector3d(0.6, 0.8, 0.0));
   for (int i = in.in(0, 30); i > 0; --i) {
     q.push_back(point());
-    t.push_back(point());
+    if (in.byte() % 4) {
+      const Eigen::Vector3d moved = motion_truth * Eigen::Vector3d(q.back().x, q.back().y, q.back().z);
+      const double nudge = in.byte() % 4 ? 0.0 : in.number(-0.05, 0.05);
+      t.emplace_back(static_cast<float>(moved.x() + nudge), static_cast<float>(moved.y()),
+                     static_cast<float>(moved.z()));
+    } else {
+      t.push_back(point());
+    }
   }
   matches.clear();
   for (int i = in.in(0, 40); i > 0; --i) {
     cv::DMatch m;
-    m.queryIdx = in.in(-1, 31), m.trainIdx = in.in(-1, 31);
+    if (in.byte() % 32) {
+      m.queryIdx = m.trainIdx = static_cast<int>(matches.size()) % std::max<int>(1, static_cast<int>(q.size()));
+    } else {
+      m.queryIdx = in.in(-1, 31), m.trainIdx = in.in(-1, 31);
+    }
     matches.push_back(m);
   }
   risas::MotionParams motion;
@@ -255,6 +289,7 @@ void fuzzMatchingAndMotion(Bytes& in) {
     for (char c : m.inliers) count += c != 0;
     require(!m.valid || count == m.num_inliers, "inliers counted");
     require(!m.valid || m.train_T_query.matrix().allFinite(), "finite motion");
+    refineAndCheck(in, q, t, matches, m);
   } catch (const risas::InputError&) {
   }
 }
