@@ -9,8 +9,53 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace risas {
 namespace {
+
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// A pose moved by a perturbation in the convention of odometry.hpp:
+// t + dt, exp(dtheta) R.
+Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, const Vector6& d) {
+  Eigen::Isometry3d P = T;
+  P.translation() += d.head<3>();
+  if (d.tail<3>().norm() > 0.0) {
+    P.linear() = Eigen::AngleAxisd(d.tail<3>().norm(), d.tail<3>().normalized()).toRotationMatrix() * T.linear();
+  }
+  return P;
+}
+
+// The perturbation that takes `nominal` to `T`, in the same convention.
+Vector6 perturbationOf(const Eigen::Isometry3d& T, const Eigen::Isometry3d& nominal) {
+  Vector6 d;
+  d.head<3>() = T.translation() - nominal.translation();
+  const Eigen::AngleAxisd rotation(T.linear() * nominal.linear().transpose());
+  d.tail<3>() = rotation.angle() * rotation.axis();
+  return d;
+}
+
+// Samples' covariance (their mean is zero by construction).
+struct ScatterOf {
+  Matrix6 sum = Matrix6::Zero();
+  int n = 0;
+  void add(const Vector6& d) {
+    sum += d * d.transpose();
+    ++n;
+  }
+  Matrix6 covariance() const { return sum / n; }
+};
+
+// Each diagonal entry within `tolerance` of the prediction's, relatively.
+void expectDiagonalsNear(const Matrix6& predicted, const Matrix6& sampled, double tolerance) {
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(sampled(i, i) / predicted(i, i), 1.0, tolerance) << "axis " << i << "\npredicted\n"
+                                                                 << predicted << "\nsampled\n"
+                                                                 << sampled;
+  }
+}
 
 double angleDegBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
@@ -202,6 +247,62 @@ TEST(Odometry, CovarianceShrinksWithMorePointsAndStaysFiniteWhenDegenerate) {
   const auto c_line = motionCovariance(line, 0.01);
   EXPECT_TRUE(c_line.allFinite());
   EXPECT_GT(c_line(3, 3), 1e3 * c_few(3, 3));  // rotation about the line itself is not observed
+}
+
+TEST(Covariance, MotionCovarianceIsTheFitsScatterFarFromTheOrigin) {
+  // A motion that moves the points 1.2 m: were the rotation taken about the
+  // target frame's origin (the points R p + t), the position's variance
+  // would lack dtheta x t, here larger than the fit's own.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> spread(-0.4, 0.4);
+  std::vector<Eigen::Vector3d> source;
+  for (int i = 0; i < 40; ++i) source.emplace_back(spread(rng), spread(rng), 2.0 + spread(rng));
+  const Eigen::Isometry3d truth =
+      Eigen::Translation3d(1.0, 0.6, 0.3) * Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.2, 1.0, 0.1).normalized());
+  const double sigma = 0.005;  // per axis
+  std::normal_distribution<double> noise(0.0, sigma);
+  ScatterOf scatter;
+  for (int trial = 0; trial < 3000; ++trial) {
+    Eigen::Matrix3Xd src(3, source.size()), dst(3, source.size());
+    for (size_t i = 0; i < source.size(); ++i) {
+      src.col(static_cast<Eigen::Index>(i)) = source[i];
+      dst.col(static_cast<Eigen::Index>(i)) = truth * source[i] + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    }
+    Eigen::Isometry3d fit;
+    fit.matrix() = Eigen::umeyama(src, dst, false);
+    scatter.add(perturbationOf(fit, truth));
+  }
+  std::vector<Eigen::Vector3d> rotated;
+  for (const Eigen::Vector3d& p : source) rotated.push_back(truth.linear() * p);
+  expectDiagonalsNear(motionCovariance(rotated, sigma), scatter.covariance(), 0.15);
+}
+
+TEST(Covariance, ComposingCarriesTheHeadingsUncertaintyOverTheLeverArm) {
+  // A keyframe 1° uncertain in heading and a frame 2 m ahead of it: 35 mm
+  // of the frame's position comes from the keyframe's rotation alone.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Eigen::Isometry3d world_T_a =
+      Eigen::Translation3d(0.5, -0.2, 1.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 0.9, 0.3).normalized());
+  const Eigen::Isometry3d a_T_b =
+      Eigen::Translation3d(0.3, 0.1, 2.0) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+  Vector6 sd_a, sd_ab;
+  sd_a << 0.002, 0.003, 0.001, 0.004, 0.017, 0.002;
+  sd_ab << 0.004, 0.001, 0.002, 0.003, 0.001, 0.005;
+  const Matrix6 covariance_a = sd_a.cwiseAbs2().asDiagonal(), covariance_ab = sd_ab.cwiseAbs2().asDiagonal();
+  ScatterOf scatter;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Vector6 d_a, d_ab;
+    for (int i = 0; i < 6; ++i) d_a(i) = sd_a(i) * unit(rng), d_ab(i) = sd_ab(i) * unit(rng);
+    scatter.add(perturbationOf(perturbed(world_T_a, d_a) * perturbed(a_T_b, d_ab), world_T_a * a_T_b));
+  }
+  const Matrix6 composed = composeCovariance(world_T_a, covariance_a, a_T_b, covariance_ab);
+  expectDiagonalsNear(composed, scatter.covariance(), 0.15);
+  // The old sum, the increment's covariance rotated and added, falls short
+  // of the position's scatter by the lever arm's share.
+  const Matrix6 summed = covariance_a + rotateCovariance(covariance_ab, world_T_a.linear());
+  const double summed_position = summed.topLeftCorner(3, 3).trace();
+  EXPECT_LT(summed_position, 0.5 * scatter.covariance().topLeftCorner(3, 3).trace());
 }
 
 }  // namespace

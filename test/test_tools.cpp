@@ -154,9 +154,24 @@ TEST_F(Tools, BenchmarkTimesTheSameFramesFromEitherLayout) {
 TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   const std::string tum = tumFolder(3).string();
   const std::string common = "risas_odometry --tum " + tum + " --intrinsics " + file("camera-intrinsics.txt");
-  const ToolRun one = run(common + " --out " + file("one.txt"));
+  const ToolRun one = run(common + " --out " + file("one.txt") + " --frames " + file("one.csv"));
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_NE(one.output.find("3 frames, 0 not tracked"), std::string::npos) << one.output;
+  // Per frame, the pose's standard deviations: none at the first (the world
+  // is its camera), some at every tracked one.
+  std::ifstream csv(file("one.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "stamp,tracked,keyframe,features,matches,inliers,rmse,position_sd,rotation_sd_deg");
+  std::vector<double> position_sd;
+  while (std::getline(csv, line)) {
+    const size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+    position_sd.push_back(std::stod(line.substr(before + 1, last - before - 1)));
+  }
+  ASSERT_EQ(position_sd.size(), 3u);
+  EXPECT_EQ(position_sd[0], 0.0);
+  EXPECT_GT(position_sd[1], 0.0);
+  EXPECT_GT(position_sd[2], 0.0);
   EXPECT_EQ(one.output.find("RANSAC seeds"), std::string::npos) << one.output;
   const ToolRun three = run(common + " --out " + file("three.txt") + " --ransac-seeds 3");
   ASSERT_EQ(three.exit_code, 0) << three.output;

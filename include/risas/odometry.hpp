@@ -32,22 +32,41 @@ struct OdometryResult {
   Eigen::Isometry3d world_T_camera = Eigen::Isometry3d::Identity();
   // Of world_T_camera, in the order (x, y, z, rotation about x, y, z), the
   // rotations as a small rotation of the world frame: nav_msgs/Odometry's
-  // layout. lost_variance on the diagonal when not tracked.
+  // layout. The keyframes' covariances composed (composeCovariance) with
+  // each increment's. lost_variance on the diagonal when not tracked.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   int matches = 0, inliers = 0;
   double rmse = 0.0;  // of the inliers, metres
 };
 
-// The covariance of a rigid motion fitted to inlier pairs q_i ~ T p_i with
-// residual RMS `rmse`: rmse^2 (J^T J)^-1 over the point-to-point residuals,
-// J_i = [I, -[T p_i]x] for a translation and a small rotation of the target
-// frame. The inverse is taken of the regularised matrix, so that
-// degenerate sets (collinear points) give large, finite variances.
-Eigen::Matrix<double, 6, 6> motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse);
+// Pose covariances here are of a pose T = (R, t) in (x, y, z, rotation
+// about x, y, z) as nav_msgs/Odometry has them: the position perturbed in
+// the reference frame's axes and the rotation by a small rotation of that
+// frame, t + dt and exp(dtheta) R.
+
+// The covariance of a rigid motion T = (R, t) fitted to inlier pairs
+// q_i ~ R p_i + t with residual RMS `rmse`: rmse^2 (J^T J)^-1 over the
+// point-to-point residuals, J_i = [I, -[R p_i]x], the convention above.
+// Pass the rotated points R p_i (not q_i: a rotation of the target frame
+// about its origin would move the position by dtheta x t as well). The
+// inverse is taken of the regularised matrix, so that degenerate sets
+// (collinear points) give large, finite variances.
+Eigen::Matrix<double, 6, 6> motionCovariance(const std::vector<Eigen::Vector3d>& rotated_points, double rmse);
 
 // A covariance in (x, y, z, rotation x, y, z) of frame A expressed in frame
 // B, given R_BA: both blocks rotated, R C R^T with R = diag(R_BA, R_BA).
 Eigen::Matrix<double, 6, 6> rotateCovariance(const Eigen::Matrix<double, 6, 6>& covariance, const Eigen::Matrix3d& R);
+
+// The covariance of world_T_b = world_T_a * a_T_b to first order, the two
+// independent: world_T_a's covariance (world axes) and a_T_b's (a's axes).
+// world_T_a's rotational uncertainty moves b by its lever arm, the offset
+// R_wa t_ab: J_a = [[I, -[R_wa t_ab]x], [0, I]], J_ab = diag(R_wa, R_wa).
+// This is how a chain of keyframes turns heading uncertainty into position
+// uncertainty that grows with the distance travelled.
+Eigen::Matrix<double, 6, 6> composeCovariance(const Eigen::Isometry3d& world_T_a,
+                                              const Eigen::Matrix<double, 6, 6>& covariance_a,
+                                              const Eigen::Isometry3d& a_T_b,
+                                              const Eigen::Matrix<double, 6, 6>& covariance_ab);
 
 class Odometry {
  public:

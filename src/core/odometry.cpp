@@ -21,12 +21,19 @@ Matrix6 rotateCovariance(const Matrix6& covariance, const Eigen::Matrix3d& R) {
   return big * covariance * big.transpose();
 }
 
-Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& target_points, double rmse) {
+Matrix6 composeCovariance(const Eigen::Isometry3d& world_T_a, const Matrix6& covariance_a,
+                          const Eigen::Isometry3d& a_T_b, const Matrix6& covariance_ab) {
+  Matrix6 J_a = Matrix6::Identity();
+  J_a.topRightCorner<3, 3>() = -crossProductMatrix(world_T_a.linear() * a_T_b.translation());
+  return J_a * covariance_a * J_a.transpose() + rotateCovariance(covariance_ab, world_T_a.linear());
+}
+
+Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& rotated_points, double rmse) {
   Matrix6 H = Matrix6::Zero();
-  for (const Eigen::Vector3d& q : target_points) {
+  for (const Eigen::Vector3d& x : rotated_points) {
     Eigen::Matrix<double, 3, 6> J;
     J.leftCols<3>() = Eigen::Matrix3d::Identity();
-    J.rightCols<3>() = -crossProductMatrix(q);
+    J.rightCols<3>() = -crossProductMatrix(x);
     H += J.transpose() * J;
   }
   // A floor on the noise (1 mm) keeps an exact fit from claiming certainty;
@@ -141,19 +148,19 @@ OdometryResult Odometry::track(const Features& features) {
   }
 
   const Eigen::Isometry3d& key_T_frame = m.train_T_query;
-  std::vector<Eigen::Vector3d> inlier_points;
+  std::vector<Eigen::Vector3d> rotated_points;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (!m.inliers[i]) continue;
     const cv::Point3f& p = frame.points[static_cast<size_t>(matches[i].queryIdx)];
-    inlier_points.push_back(key_T_frame * Eigen::Vector3d(p.x, p.y, p.z));
+    rotated_points.push_back(key_T_frame.linear() * Eigen::Vector3d(p.x, p.y, p.z));
   }
-  // The increment's covariance, in the keyframe's camera frame, moved into
-  // the world frame and added to the keyframe's own.
-  const Matrix6 increment = motionCovariance(inlier_points, m.rmse);
+  // The increment's covariance, in the keyframe's camera frame, composed
+  // with the keyframe's own.
+  const Matrix6 increment = motionCovariance(rotated_points, m.rmse);
   pose_ = keyframe_.world_T_camera * key_T_frame;
   r.tracked = true;
   r.world_T_camera = pose_;
-  r.covariance = keyframe_.covariance + rotateCovariance(increment, keyframe_.world_T_camera.linear());
+  r.covariance = composeCovariance(keyframe_.world_T_camera, keyframe_.covariance, key_T_frame, increment);
   covariance_ = r.covariance;
 
   const double moved = key_T_frame.translation().norm();

@@ -139,9 +139,15 @@ class OdometryNodelet : public nodelet::Nodelet {
     odom.header.frame_id = odom_frame_;
     odom.child_frame_id = child;
     odom.pose.pose = toPose(odom_T_child);
-    // The camera's covariance in the base's axes.
+    // The base's covariance: the camera's carried to the base by the camera's
+    // rotational uncertainty over their offset, then into the odom frame's
+    // axes (the base's at the start).
     const Eigen::Matrix<double, 6, 6> covariance =
-        !base_frame_.empty() && r.tracked ? risas::rotateCovariance(r.covariance, T_bc.linear()) : r.covariance;
+        !base_frame_.empty() && r.tracked
+            ? risas::rotateCovariance(risas::composeCovariance(r.world_T_camera, r.covariance, T_bc.inverse(),
+                                                               Eigen::Matrix<double, 6, 6>::Zero()),
+                                      T_bc.linear())
+            : r.covariance;
     for (int i = 0; i < 6; ++i) {
       for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
     }

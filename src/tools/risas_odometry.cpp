@@ -52,7 +52,9 @@ int main(int argc, char** argv) {
         {"tum", "DIR", "TUM RGB-D folder: rgb.txt, depth.txt (5000 units per metre), groundtruth.txt"},
         {"out", "T.txt", "trajectory to write (TUM format: timestamp tx ty tz qx qy qz qw)"},
         {"features", "NAME", "RISAS (default) or ORB (1000, with depth): the same odometry on either"},
-        {"frames", "CSV", "also write per frame: stamp, tracked, keyframe, matches, inliers"},
+        {"frames", "CSV",
+         "also write per frame: stamp, tracked, keyframe, features, matches, inliers, rmse and the pose's standard "
+         "deviations (position m, rotation deg: the roots of the covariance's traces)"},
         {"delta", "N", "RPE over frame pairs N apart (default 1)"},
         {"max-frames", "N", "stop after N frames"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
@@ -108,7 +110,8 @@ int main(int argc, char** argv) {
       std::ofstream frames_csv;
       if (k == 0 && args.has("frames")) {
         frames_csv.open(args.get("frames"));
-        frames_csv << "stamp,tracked,keyframe,features,matches,inliers,rmse\n" << std::fixed << std::setprecision(6);
+        frames_csv << "stamp,tracked,keyframe,features,matches,inliers,rmse,position_sd,rotation_sd_deg\n"
+                   << std::fixed << std::setprecision(6);
       }
       for (size_t i = 0; i < count; ++i) {
         risas::Features extracted;
@@ -122,7 +125,9 @@ int main(int argc, char** argv) {
         trajectory.push_back({stamp, r.world_T_camera});
         if (frames_csv.is_open()) {
           frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
-                     << "," << r.matches << "," << r.inliers << "," << r.rmse << "\n";
+                     << "," << r.matches << "," << r.inliers << "," << r.rmse << ","
+                     << std::sqrt(r.covariance.topLeftCorner<3, 3>().trace()) << ","
+                     << std::sqrt(r.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI << "\n";
         }
       }
       const risas::eval::TrajectoryError e =
