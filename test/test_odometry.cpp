@@ -198,6 +198,35 @@ TEST_F(OdometryOnASwing, DescriptorsOfAnotherLayoutAreRefusedUntilReset) {
   EXPECT_TRUE(plain.track(unknown).tracked);
 }
 
+// Other cameras' resolutions: the swing rendered at QVGA (a Kinect's or
+// an Xtion's 320x240 mode) and at 1280x960, the intrinsics scaled with the
+// image. The pixel-sized scales stay what they are (config/risas.yaml), so
+// each keypoint covers a different share of the scene; tracking must hold.
+class OdometryAtOtherResolutions : public ::testing::TestWithParam<double> {};
+
+TEST_P(OdometryAtOtherResolutions, TracksTheSwing) {
+  const double scale = GetParam();
+  const Intrinsics vga = syntheticIntrinsics();
+  const Intrinsics K(scale * vga.fx, scale * vga.fy, scale * (vga.cx + 0.5) - 0.5, scale * (vga.cy + 0.5) - 0.5);
+  const cv::Size size(static_cast<int>(scale * test::kVga.width), static_cast<int>(scale * test::kVga.height));
+  const std::vector<Eigen::Isometry3d> poses = swing(8, 2.0);
+  const SyntheticScene scene = SyntheticScene::demo();
+  const auto risas = Risas::create();
+  Odometry odometry;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const SyntheticRender render = scene.render(K, size, poses[k]);
+    const Features f = risas->extract(RgbdFrame(render.bgr, render.depth_mm, K));
+    EXPECT_GE(f.keypoints.size(), 100u) << "frame " << k;
+    const OdometryResult r = odometry.track(f);
+    ASSERT_TRUE(r.tracked) << "frame " << k;
+    const Eigen::Isometry3d truth = poses[0].inverse() * poses[k];
+    EXPECT_LT((r.world_T_camera.translation() - truth.translation()).norm(), 0.01) << "frame " << k;
+    EXPECT_LT(angleDegBetween(r.world_T_camera, truth), 0.5) << "frame " << k;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(QvgaAndSxga, OdometryAtOtherResolutions, ::testing::Values(0.5, 2.0));
+
 TEST(OdometryOnKinectDepth, TheReprojectionRefitTracksCloserThanThe3DRefit) {
   // The swing seen as a Kinect sees it: depth quantised and noisy along the
   // rays, grey noise. The same features tracked with and without the
