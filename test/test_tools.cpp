@@ -157,6 +157,13 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   const ToolRun one = run(common + " --out " + file("one.txt") + " --frames " + file("one.csv"));
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_NE(one.output.find("3 frames, 0 not tracked"), std::string::npos) << one.output;
+  // The rendered motion is exact: the covariance (its 1 mm floor) covers the
+  // drift with room to spare.
+  const size_t consistency = one.output.find("Covariance against the drift from the first tracked pose (2 poses");
+  ASSERT_NE(consistency, std::string::npos) << one.output;
+  const size_t ratio = one.output.find("mean sigma^2 ", consistency);
+  ASSERT_NE(ratio, std::string::npos) << one.output;
+  EXPECT_LT(std::stod(one.output.substr(ratio + 13)), 1.0) << one.output;
   // Per frame, the pose's standard deviations: none at the first (the world
   // is its camera), some at every tracked one.
   std::ifstream csv(file("one.csv"));

@@ -10,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 namespace risas {
 namespace {
@@ -167,6 +169,50 @@ TEST_F(Tum, TrajectoriesRoundTripAndTheirErrorIsTheBenchmarks) {
   EXPECT_THROW(eval::trajectoryError(eval::associate({moved[0], moved[1]}, truth)), InputError);
   write("bad.txt", "100.0 1 2 3\n");
   EXPECT_NE(errorOf([&] { readTumTrajectory(dir() + "/bad.txt"); }).find("bad.txt line 1"), std::string::npos);
+}
+
+// An estimate whose errors are drawn from the covariances it reports, in
+// its own world (the first camera), the truth in another: the ratios are 1.
+// The same estimate claiming a quarter of the variance is overconfident by 4.
+TEST(CovarianceConsistency, IsOneForErrorsDrawnFromTheCovariance) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Eigen::Isometry3d G = Eigen::Translation3d(3.0, -1.0, 0.8) * Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, -2, 1).normalized());
+  std::vector<StampedPose> estimate, truth;
+  std::vector<Eigen::Matrix<double, 6, 6>> covariances, claimed_less;
+  for (int k = 0; k < 3000; ++k) {
+    const Eigen::Isometry3d camera = Eigen::Translation3d(0.01 * k, std::sin(0.01 * k), 0.2) *
+                                     Eigen::AngleAxisd(0.002 * k, Eigen::Vector3d::UnitY());
+    truth.push_back({0.1 * k, G * camera});
+    // Drift growing along the path: sigma per axis 1 mm + 1 mm per 100 poses.
+    const double sigma = 0.001 * (1.0 + 0.01 * k), sigma_rotation = 0.0005 * (1.0 + 0.01 * k);
+    Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
+    if (k > 0) C.diagonal() << sigma * sigma, sigma * sigma, sigma * sigma, sigma_rotation * sigma_rotation,
+        sigma_rotation * sigma_rotation, sigma_rotation * sigma_rotation;
+    Eigen::Isometry3d drifted = camera;
+    if (k > 0) {
+      const Eigen::Vector3d dt(sigma * unit(rng), sigma * unit(rng), sigma * unit(rng));
+      const Eigen::Vector3d dr(sigma_rotation * unit(rng), sigma_rotation * unit(rng), sigma_rotation * unit(rng));
+      drifted.translation() += dt;
+      drifted.linear() = Eigen::AngleAxisd(dr.norm(), dr.normalized()).toRotationMatrix() * camera.linear();
+    }
+    estimate.push_back({0.1 * k, drifted});
+    covariances.push_back(C);
+    claimed_less.push_back(C / 4.0);
+  }
+  const eval::AssociatedTrajectory associated = eval::associate(estimate, truth);
+  ASSERT_EQ(associated.estimate_index.size(), estimate.size());
+  EXPECT_EQ(associated.estimate_index[7], 7u);
+  const eval::CovarianceConsistency c = eval::covarianceConsistency(associated, covariances);
+  EXPECT_EQ(c.poses, 2999);
+  EXPECT_NEAR(c.position_ratio, 1.0, 0.1);
+  EXPECT_NEAR(c.rotation_ratio, 1.0, 0.1);
+  EXPECT_GT(c.within_two_sigma, 0.98);  // |e|^2 / sigma^2 is chi-square(3): below 12 on 99.3 %
+  const eval::CovarianceConsistency over = eval::covarianceConsistency(associated, claimed_less);
+  EXPECT_NEAR(over.position_ratio, 4.0, 0.4);
+  EXPECT_LT(over.within_two_sigma, 0.8);  // chi-square(3) below 3: 61 %
+  EXPECT_THROW(eval::covarianceConsistency(associated, {covariances[0]}), InputError);
+  EXPECT_THROW(eval::covarianceConsistency(eval::associate({estimate[0]}, truth), {covariances[0]}), InputError);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 namespace risas::eval {
 
@@ -17,6 +19,7 @@ AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const s
   for (const auto& [i, j] : associateStamps(a, b, max_difference)) {
     t.estimate.push_back(estimate[i]);
     t.truth.push_back(truth[j]);
+    t.estimate_index.push_back(i);
   }
   return t;
 }
@@ -65,6 +68,37 @@ TrajectoryError trajectoryError(const AssociatedTrajectory& trajectory, int delt
     e.rpe_rotation_rmse_deg = std::sqrt(r_sq / e.rpe_pairs);
   }
   return e;
+}
+
+CovarianceConsistency covarianceConsistency(const AssociatedTrajectory& trajectory,
+                                            const std::vector<Eigen::Matrix<double, 6, 6>>& covariances) {
+  const size_t n = trajectory.estimate.size();
+  if (trajectory.truth.size() != n || covariances.size() != n) {
+    throw InputError("covariance consistency needs one truth pose and one covariance per estimate pose");
+  }
+  if (n < 2) throw InputError("covariance consistency needs at least 2 poses, got " + std::to_string(n));
+  const Eigen::Isometry3d estimate_origin = trajectory.estimate[0].world_T_camera.inverse();
+  const Eigen::Isometry3d truth_origin = trajectory.truth[0].world_T_camera.inverse();
+  double e_sq = 0.0, variance = 0.0, a_sq = 0.0, rotation_variance = 0.0;
+  int within = 0;
+  for (size_t i = 1; i < n; ++i) {
+    const Eigen::Isometry3d estimate = estimate_origin * trajectory.estimate[i].world_T_camera;
+    const Eigen::Isometry3d truth = truth_origin * trajectory.truth[i].world_T_camera;
+    const double e2 = (estimate.translation() - truth.translation()).squaredNorm();
+    const double s2 = covariances[i].topLeftCorner<3, 3>().trace();
+    const double a = Eigen::AngleAxisd(estimate.linear() * truth.linear().transpose()).angle();
+    e_sq += e2;
+    variance += s2;
+    a_sq += a * a;
+    rotation_variance += covariances[i].bottomRightCorner<3, 3>().trace();
+    within += e2 < 4.0 * s2;
+  }
+  CovarianceConsistency c;
+  c.poses = static_cast<int>(n - 1);
+  c.position_ratio = variance > 0.0 ? e_sq / variance : std::numeric_limits<double>::infinity();
+  c.rotation_ratio = rotation_variance > 0.0 ? a_sq / rotation_variance : std::numeric_limits<double>::infinity();
+  c.within_two_sigma = static_cast<double>(within) / c.poses;
+  return c;
 }
 
 }  // namespace risas::eval

@@ -21,6 +21,7 @@ using risas::StampedPose;  // files: risas::readTumTrajectory, writeTumTrajector
 // (associate.py's rule), in the estimate's order.
 struct AssociatedTrajectory {
   std::vector<StampedPose> estimate, truth;
+  std::vector<size_t> estimate_index;  // of each pair's pose in the estimate given
 };
 AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,
                                double max_difference = 0.02);
@@ -42,5 +43,23 @@ struct TrajectoryError {
 // truth Q and estimate P; the RMSE of its translation and of its rotation
 // angle. InputError with fewer than 3 associated poses.
 TrajectoryError trajectoryError(const AssociatedTrajectory& trajectory, int delta = 1);
+
+// A reported pose covariance (odometry.hpp's convention, one per estimate
+// pose) against the drift it stands for. Both trajectories are taken from
+// their first pose, without an alignment (an odometry's world is its first
+// camera): e_i the estimate's position minus the truth's, a_i the angle of
+// the rotation between them, each against the trace of the covariance's
+// position (rotation) block. Consistent: the ratios near 1, and |e| < 2σ on
+// most poses (σ² the trace); above 1 the covariance is overconfident.
+struct CovarianceConsistency {
+  int poses = 0;                  // after the first
+  double position_ratio = 0.0;    // mean |e|² / mean σ²
+  double within_two_sigma = 0.0;  // share of poses with |e| < 2σ
+  double rotation_ratio = 0.0;    // mean a² / mean σ_rotation², radians
+};
+// InputError unless there is one covariance per estimate pose and at least
+// 2 poses.
+CovarianceConsistency covarianceConsistency(const AssociatedTrajectory& trajectory,
+                                            const std::vector<Eigen::Matrix<double, 6, 6>>& covariances);
 
 }  // namespace risas::eval
