@@ -204,6 +204,37 @@ Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
   return tf2::transformToEigen(unit);
 }
 
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
+  const geometry_msgs::Transform t = toTransform(T);
+  geometry_msgs::Pose p;
+  p.position.x = t.translation.x;
+  p.position.y = t.translation.y;
+  p.position.z = t.translation.z;
+  p.orientation = t.rotation;
+  return p;
+}
+
+nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msgs::Header& header,
+                              const std::string& child_frame_id, const Eigen::Isometry3d& base_T_camera,
+                              double lost_variance) {
+  nav_msgs::Odometry odom;
+  odom.header = header;
+  odom.child_frame_id = child_frame_id;
+  const Eigen::Isometry3d camera_T_base = base_T_camera.inverse();
+  odom.pose.pose = toPose(base_T_camera * result.world_T_camera * camera_T_base);
+  const Eigen::Matrix<double, 6, 6> covariance =
+      result.tracked ? risas::rotateCovariance(risas::composeCovariance(result.world_T_camera, result.covariance,
+                                                                        camera_T_base,
+                                                                        Eigen::Matrix<double, 6, 6>::Zero()),
+                                               base_T_camera.linear())
+                     : result.covariance;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
+    odom.twist.covariance[static_cast<size_t>(7 * i)] = lost_variance;
+  }
+  return odom;
+}
+
 void checkImageTransport(const std::string& transport, const std::string& parameter, bool depth,
                          const std::vector<std::string>& loadable) {
   static const std::vector<std::string> lossy = {"compressed", "theora", "ffmpeg", "h264", "h265"};

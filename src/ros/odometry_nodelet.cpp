@@ -36,20 +36,6 @@
 
 namespace risas_ros {
 
-namespace {
-
-geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
-  const geometry_msgs::Transform t = toTransform(T);
-  geometry_msgs::Pose p;
-  p.position.x = t.translation.x;
-  p.position.y = t.translation.y;
-  p.position.z = t.translation.z;
-  p.orientation = t.rotation;
-  return p;
-}
-
-}  // namespace
-
 class OdometryNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
@@ -131,35 +117,21 @@ class OdometryNodelet : public nodelet::Nodelet {
     }
 
     // In the odom frame: the camera, or the base through the static tf.
-    const Eigen::Isometry3d& T_bc = *base_T_camera;
-    const Eigen::Isometry3d odom_T_child = T_bc * r.world_T_camera * T_bc.inverse();
     const std::string child = base_frame_.empty() ? camera_frame : base_frame_;
-    nav_msgs::Odometry odom;
-    odom.header.stamp = message->header.stamp;
-    odom.header.frame_id = odom_frame_;
-    odom.child_frame_id = child;
-    odom.pose.pose = toPose(odom_T_child);
-    // The base's covariance: the camera's carried to the base by the camera's
-    // rotational uncertainty over their offset, then into the odom frame's
-    // axes (the base's at the start).
-    const Eigen::Matrix<double, 6, 6> covariance =
-        !base_frame_.empty() && r.tracked
-            ? risas::rotateCovariance(risas::composeCovariance(r.world_T_camera, r.covariance, T_bc.inverse(),
-                                                               Eigen::Matrix<double, 6, 6>::Zero()),
-                                      T_bc.linear())
-            : r.covariance;
-    for (int i = 0; i < 6; ++i) {
-      for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
-    }
-    // No twist is estimated: its covariance says so.
-    for (int i = 0; i < 6; ++i) odom.twist.covariance[static_cast<size_t>(7 * i)] = params_.odometry.lost_variance;
+    std_msgs::Header header;
+    header.stamp = message->header.stamp;
+    header.frame_id = odom_frame_;
+    const nav_msgs::Odometry odom = toOdometry(r, header, child, *base_T_camera, params_.odometry.lost_variance);
     odom_pub_.publish(odom);
 
     if (publish_tf_) {
       geometry_msgs::TransformStamped t;
       t.header = odom.header;
       t.child_frame_id = child;
-      t.transform = toTransform(odom_T_child);
+      t.transform.translation.x = odom.pose.pose.position.x;
+      t.transform.translation.y = odom.pose.pose.position.y;
+      t.transform.translation.z = odom.pose.pose.position.z;
+      t.transform.rotation = odom.pose.pose.orientation;
       tf_broadcaster_.sendTransform(t);
     }
     geometry_msgs::PoseStamped stamped;

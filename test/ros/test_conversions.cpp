@@ -18,6 +18,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace risas_ros {
 namespace {
 
@@ -176,6 +178,77 @@ TEST(Conversions, IntrinsicsOfARectifiedImageAreItsProjectionNotK) {
   EXPECT_EQ(from_k.cy, 243.0);
   m.info.P = {525.0, 3.0, 319.5, 0.0, 0.0, 526.0, 239.5, 0.0, 0.0, 0.0, 1.0, 0.0};  // skewed
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "not a pinhole");
+}
+
+// The odometry nodelet's message. The camera as the child: the result as it
+// is. A base 0.5 m from the camera: the base's pose through the static
+// transform, and a covariance that is the scatter of the base's pose when
+// the camera's is drawn from the result's (Monte Carlo), 1° of the camera's
+// heading uncertainty moving the base by its lever arm.
+TEST(Conversions, OdometryMessagesCarryTheCamerasCovarianceToTheBase) {
+  risas::OdometryResult r;
+  r.tracked = true;
+  r.world_T_camera = Eigen::Translation3d(0.4, -0.2, 1.5) * Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 2).normalized());
+  Eigen::Matrix<double, 6, 1> sd;
+  sd << 0.002, 0.001, 0.003, 0.017, 0.004, 0.009;
+  r.covariance = sd.cwiseAbs2().asDiagonal();
+  std_msgs::Header header;
+  header.frame_id = "odom";
+  header.stamp = ros::Time(12.5);
+
+  const nav_msgs::Odometry camera = toOdometry(r, header, "camera_rgb_optical_frame", Eigen::Isometry3d::Identity(), 9999.0);
+  EXPECT_EQ(camera.header.frame_id, "odom");
+  EXPECT_EQ(camera.header.stamp, header.stamp);
+  EXPECT_EQ(camera.child_frame_id, "camera_rgb_optical_frame");
+  EXPECT_NEAR(camera.pose.pose.position.x, 0.4, 1e-12);
+  for (int i = 0; i < 36; ++i) EXPECT_DOUBLE_EQ(camera.pose.covariance[static_cast<size_t>(i)], r.covariance(i / 6, i % 6));
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(camera.twist.covariance[static_cast<size_t>(7 * i)], 9999.0);
+
+  // base_link: x forward, z up; the optical frame z forward, 0.5 m ahead.
+  Eigen::Matrix3d optical;
+  optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  const Eigen::Isometry3d base_T_camera = Eigen::Translation3d(0.5, 0.05, 0.3) * Eigen::Quaterniond(optical);
+  const nav_msgs::Odometry base = toOdometry(r, header, "base_link", base_T_camera, 9999.0);
+  EXPECT_EQ(base.child_frame_id, "base_link");
+  const auto poseOf = [](const geometry_msgs::Pose& p) {
+    geometry_msgs::Transform t;
+    t.translation.x = p.position.x, t.translation.y = p.position.y, t.translation.z = p.position.z;
+    t.rotation = p.orientation;
+    return fromTransform(t);
+  };
+  const Eigen::Isometry3d odom_T_base = base_T_camera * r.world_T_camera * base_T_camera.inverse();
+  EXPECT_TRUE(poseOf(base.pose.pose).isApprox(odom_T_base, 1e-9));
+  std::mt19937 rng(4);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  Eigen::Matrix<double, 6, 6> scatter = Eigen::Matrix<double, 6, 6>::Zero();
+  const int draws = 4000;
+  for (int k = 0; k < draws; ++k) {
+    Eigen::Matrix<double, 6, 1> d;
+    for (int i = 0; i < 6; ++i) d(i) = sd(i) * unit(rng);
+    Eigen::Isometry3d drawn = r.world_T_camera;
+    drawn.translation() += d.head<3>();
+    drawn.linear() = Eigen::AngleAxisd(d.tail<3>().norm(), d.tail<3>().normalized()) * r.world_T_camera.linear();
+    const Eigen::Isometry3d moved = base_T_camera * drawn * base_T_camera.inverse();
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = moved.translation() - odom_T_base.translation();
+    const Eigen::AngleAxisd turn(moved.linear() * odom_T_base.linear().transpose());
+    e.tail<3>() = turn.angle() * turn.axis();
+    scatter += e * e.transpose() / draws;
+  }
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(base.pose.covariance[static_cast<size_t>(7 * i)] / scatter(i, i), 1.0, 0.15) << "axis " << i;
+  }
+  // The camera's position variance merely turned into odom's axes (the
+  // nodelet before) is less than half the base's.
+  const double turned_only = r.covariance.topLeftCorner(3, 3).trace();
+  EXPECT_LT(turned_only, 0.5 * scatter.topLeftCorner(3, 3).trace());
+
+  // Lost: the pose held, the lost variances as they are.
+  r.tracked = false;
+  r.covariance = 9999.0 * Eigen::Matrix<double, 6, 6>::Identity();
+  const nav_msgs::Odometry lost = toOdometry(r, header, "base_link", base_T_camera, 9999.0);
+  EXPECT_TRUE(poseOf(lost.pose.pose).isApprox(odom_T_base, 1e-9));
+  for (int i = 0; i < 36; ++i) EXPECT_EQ(lost.pose.covariance[static_cast<size_t>(i)], i % 7 == 0 ? 9999.0 : 0.0);
 }
 
 TEST(Transports, LossyDepthAndUninstalledTransportsAreRefusedByName) {

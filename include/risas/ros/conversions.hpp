@@ -5,6 +5,7 @@
 
 #include "risas/features.hpp"
 #include "risas/intrinsics.hpp"
+#include "risas/odometry.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
 
@@ -16,7 +17,10 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <Eigen/Geometry>
+#include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
+#include <nav_msgs/Odometry.h>
+#include <std_msgs/Header.h>
 
 #include <string>
 #include <vector>
@@ -60,8 +64,22 @@ sensor_msgs::PointCloud2Ptr toPointCloud(const Features& features, const std_msg
 Features fromMessage(const KeypointArray& message);
 
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T);
 // The inverse: the quaternion normalised.
 Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
+
+// The odometry's result as nav_msgs/Odometry. header: the stamp and the
+// odom frame; base_T_camera: the camera's static pose on child_frame_id
+// (identity when the child is the camera itself). The pose published is
+// base_T_camera * world_T_camera * camera_T_base (odom is the base at the
+// start); its covariance, when tracked, is the camera's carried over the
+// camera's offset by its rotational uncertainty (risas::composeCovariance)
+// and turned into odom's axes, in nav_msgs's order (x, y, z, rotation about
+// x, y, z); when lost, the result's own (lost_variance on the diagonal). No
+// twist is estimated: its variances are lost_variance.
+nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msgs::Header& header,
+                              const std::string& child_frame_id, const Eigen::Isometry3d& base_T_camera,
+                              double lost_variance);
 
 // Checks the image_transport `transport` named by the parameter ~`parameter`
 // against image_transport's loadable transports (`loadable`, as
