@@ -20,21 +20,38 @@ using risas::KeypointGeometry;
 using risas::Keypoint;
 namespace enc = sensor_msgs::image_encodings;
 
-Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
+namespace {
+
+// The camera model of the image the CameraInfo comes with: binning and ROI
+// applied, as image_geometry applies them (image_proc's crop_decimate and
+// drivers' reduced modes publish full-resolution K and P with binning_x/y
+// and roi set). A CameraInfo with K alone is read as if P were [K | 0].
+image_geometry::PinholeCameraModel cameraModelOf(const sensor_msgs::CameraInfo& info) {
   const auto all_zero = [](const auto& m) { return std::all_of(m.begin(), m.end(), [](double v) { return v == 0.0; }); };
+  sensor_msgs::CameraInfo filled = info;
   if (all_zero(info.P)) {
     if (all_zero(info.K)) throw InputError("camera_info has an all-zero K and P: the camera is not calibrated");
-    return Intrinsics::fromMatrix(cv::Matx33d(info.K.data()));  // a driver that fills only K
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) filled.P[static_cast<size_t>(4 * r + c)] = info.K[static_cast<size_t>(3 * r + c)];
+    }
   }
   image_geometry::PinholeCameraModel model;
   try {
-    model.fromCameraInfo(info);
+    model.fromCameraInfo(filled);
   } catch (const std::exception& e) {
     throw InputError(std::string("camera_info cannot be read as a pinhole camera: ") + e.what());
   }
+  return model;
+}
+
+Intrinsics intrinsicsOf(const image_geometry::PinholeCameraModel& model) {
   const cv::Matx34d& P = model.projectionMatrix();
   return Intrinsics::fromMatrix(cv::Matx33d(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2)));
 }
+
+}  // namespace
+
+Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) { return intrinsicsOf(cameraModelOf(info)); }
 
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, cv::Size size) {
   sensor_msgs::CameraInfo info;
@@ -108,16 +125,20 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
     throw InputError("depth frame_id '" + depth.header.frame_id + "' differs from colour frame_id '" +
                      color.header.frame_id + "': subscribe to depth registered to the colour camera");
   }
-  if (info.width != color.width || info.height != color.height) {
-    throw InputError("camera_info is for " + std::to_string(info.width) + "x" + std::to_string(info.height) +
-                     " but the colour image is " + std::to_string(color.width) + "x" + std::to_string(color.height));
+  const image_geometry::PinholeCameraModel model = cameraModelOf(info);
+  const cv::Size expected = model.reducedResolution();
+  if (static_cast<uint32_t>(expected.width) != color.width || static_cast<uint32_t>(expected.height) != color.height) {
+    const bool reduced = expected != model.fullResolution();
+    throw InputError("camera_info is for " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+                     (reduced ? " (after its binning and roi)" : "") + " but the colour image is " +
+                     std::to_string(color.width) + "x" + std::to_string(color.height));
   }
   checkBuffer(color, "colour");
   checkBuffer(depth, "depth");
   const bool rgb_order = color.encoding == enc::RGB8 || color.encoding == enc::RGBA8;
   try {
     return RgbdFrame(imageOf(color, cvTypeOf(color.encoding)), imageOf(depth, cvTypeOf(depth.encoding)),
-                     intrinsicsFromCameraInfo(info), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
+                     intrinsicsOf(model), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
   } catch (const cv::Exception& e) {  // none is known; a node must not die of one
     throw InputError(std::string("image message cannot be read: ") + e.err);
   }

@@ -180,6 +180,50 @@ TEST(Conversions, IntrinsicsOfARectifiedImageAreItsProjectionNotK) {
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "not a pinhole");
 }
 
+// image_proc's crop_decimate and drivers' reduced modes publish the
+// calibration's full-resolution K and P with binning and roi set: the image
+// is the reduced one, and its intrinsics are image_geometry's for it.
+TEST(Conversions, BinnedAndCroppedImagesAreReadWithTheirReducedIntrinsics) {
+  const Messages full = render();
+  const auto reduced = [](const sensor_msgs::Image& image, const cv::Rect& roi, int binning) {
+    const cv_bridge::CvImagePtr cv = cv_bridge::toCvCopy(image);
+    cv::resize(cv->image(roi), cv->image, cv::Size(), 1.0 / binning, 1.0 / binning, cv::INTER_NEAREST);
+    return *cv->toImageMsg();
+  };
+  const risas::Intrinsics vga = risas::syntheticIntrinsics();
+
+  Messages decimated = full;
+  decimated.rgb = reduced(full.rgb, cv::Rect(0, 0, 640, 480), 2);
+  decimated.depth = reduced(full.depth, cv::Rect(0, 0, 640, 480), 2);
+  decimated.info.binning_x = decimated.info.binning_y = 2;
+  const risas::Intrinsics half = frameFromMessages(decimated.rgb, decimated.depth, decimated.info).intrinsics();
+  EXPECT_DOUBLE_EQ(half.fx, vga.fx / 2);
+  EXPECT_DOUBLE_EQ(half.fy, vga.fy / 2);
+  EXPECT_DOUBLE_EQ(half.cx, vga.cx / 2);
+  EXPECT_DOUBLE_EQ(half.cy, vga.cy / 2);
+  EXPECT_DOUBLE_EQ(intrinsicsFromCameraInfo(decimated.info).fx, vga.fx / 2);
+
+  Messages cropped = full;
+  const cv::Rect roi(100, 60, 320, 240);
+  cropped.rgb = reduced(full.rgb, roi, 1);
+  cropped.depth = reduced(full.depth, roi, 1);
+  cropped.info.roi.x_offset = 100, cropped.info.roi.y_offset = 60;
+  cropped.info.roi.width = 320, cropped.info.roi.height = 240;
+  const risas::Intrinsics window = frameFromMessages(cropped.rgb, cropped.depth, cropped.info).intrinsics();
+  EXPECT_DOUBLE_EQ(window.fx, vga.fx);
+  EXPECT_DOUBLE_EQ(window.cx, vga.cx - 100);
+  EXPECT_DOUBLE_EQ(window.cy, vga.cy - 60);
+
+  // K alone is reduced the same way; a full-size image with binning set is
+  // the mismatch it is, named as such.
+  decimated.info.P.fill(0.0);
+  EXPECT_DOUBLE_EQ(frameFromMessages(decimated.rgb, decimated.depth, decimated.info).intrinsics().cx, vga.cx / 2);
+  Messages not_decimated = full;
+  not_decimated.info.binning_x = not_decimated.info.binning_y = 2;
+  expectInputError([&] { frameFromMessages(not_decimated.rgb, not_decimated.depth, not_decimated.info); },
+                   "camera_info is for 320x240 (after its binning and roi) but the colour image is 640x480");
+}
+
 // The odometry nodelet's message. The camera as the child: the result as it
 // is. A base 0.5 m from the camera: the base's pose through the static
 // transform, and a covariance that is the scatter of the base's pose when

@@ -36,9 +36,11 @@ using risas::RisasParams;
 
 // The rectified image's intrinsics: the projection P, read as
 // image_geometry::PinholeCameraModel reads it (it differs from K whenever the
-// camera was calibrated with distortion). K when P is all zero (drivers that
-// fill only K). InputError when both are all zero (an uncalibrated camera) or
-// P's left 3x3 is no pinhole matrix.
+// camera was calibrated with distortion), for the image as published: with
+// binning and roi applied (image_proc's crop_decimate, reduced driver
+// modes). K when P is all zero (drivers that fill only K). InputError when
+// both are all zero (an uncalibrated camera) or P's left 3x3 is no pinhole
+// matrix.
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, cv::Size size);
 
@@ -46,7 +48,7 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, c
 // and depth (16UC1 millimetres, 32FC1 metres) with their CameraInfo. Shares
 // the messages' pixel buffers where it can. InputError, naming the problem,
 // on another encoding, a size mismatch between the images or with the
-// CameraInfo, differing frame_ids (the depth is not registered to the colour
+// CameraInfo (its size after binning and roi), differing frame_ids (the depth is not registered to the colour
 // image), or bad intrinsics.
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
                             const sensor_msgs::CameraInfo& info);
