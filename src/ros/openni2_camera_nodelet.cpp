@@ -61,7 +61,15 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
     if (!url.empty()) {
       camera_info_manager::CameraInfoManager manager(ros::NodeHandle(nh, "rgb"), "rgb", url);
       if (manager.isCalibrated()) {
-        camera_info_ = manager.getCameraInfo();
+        const sensor_msgs::CameraInfo calibration = manager.getCameraInfo();
+        if (const auto info = driver_->cameraInfoFromCalibration(calibration)) {
+          camera_info_ = *info;
+        } else {
+          NODELET_WARN("%s is a calibration for %ux%u, which the %dx%d mode is not a whole division of: using "
+                       "intrinsics from the field of view",
+                       url.c_str(), calibration.width, calibration.height, settings_.mode.width,
+                       settings_.mode.height);
+        }
       } else {
         NODELET_WARN("%s holds no calibration: using intrinsics from the field of view", url.c_str());
       }

@@ -76,4 +76,16 @@ sensor_msgs::CameraInfo RgbdCameraDriver::cameraInfoFromFov() const {
   return info;
 }
 
+std::optional<sensor_msgs::CameraInfo> RgbdCameraDriver::cameraInfoFromCalibration(
+    const sensor_msgs::CameraInfo& calibration) const {
+  const uint32_t w = static_cast<uint32_t>(settings_.mode.width), h = static_cast<uint32_t>(settings_.mode.height);
+  if (w == 0 || h == 0 || calibration.width % w != 0 || calibration.height % h != 0) return std::nullopt;
+  const uint32_t k = calibration.width / w;
+  if (k == 0 || calibration.height / h != k) return std::nullopt;
+  sensor_msgs::CameraInfo info = calibration;
+  info.binning_x = info.binning_y = k == 1 ? 0 : k;  // 0: no binning, as drivers leave it
+  info.header.frame_id = settings_.rgb_frame_id;
+  return info;
+}
+
 }  // namespace risas_ros

@@ -157,6 +157,39 @@ TEST(CameraDriver, IntrinsicsFromTheFieldsOfView) {
   EXPECT_EQ(info.header.frame_id, "camera_rgb_optical_frame");
 }
 
+// A calibration made at 640x480 serves the 320x240 mode through binning
+// (read by risas as the reduced image's intrinsics); one of another size
+// does not serve at all.
+TEST(CameraDriver, ACalibrationServesTheModesThatDivideItsSize) {
+  const sensor_msgs::CameraInfo vga = cameraInfoFromIntrinsics(risas::Intrinsics(570.0, 571.0, 318.0, 241.0), cv::Size(640, 480));
+  Harness at_vga;
+  const auto same = at_vga.driver->cameraInfoFromCalibration(vga);
+  ASSERT_TRUE(same);
+  EXPECT_EQ(same->binning_x, 0u);
+  EXPECT_EQ(same->K, vga.K);
+  EXPECT_EQ(same->header.frame_id, "camera_rgb_optical_frame");
+
+  CameraSettings qvga_mode;
+  qvga_mode.mode = {320, 240, 30};
+  Harness at_qvga(qvga_mode);
+  const auto binned = at_qvga.driver->cameraInfoFromCalibration(vga);
+  ASSERT_TRUE(binned);
+  EXPECT_EQ(binned->binning_x, 2u);
+  EXPECT_EQ(binned->binning_y, 2u);
+  const risas::Intrinsics K = intrinsicsFromCameraInfo(*binned);
+  EXPECT_DOUBLE_EQ(K.fx, 285.0);
+  EXPECT_DOUBLE_EQ(K.cy, 120.5);
+
+  sensor_msgs::CameraInfo odd = vga;
+  odd.width = 800, odd.height = 600;
+  EXPECT_FALSE(at_vga.driver->cameraInfoFromCalibration(odd));
+  odd.width = 1280, odd.height = 720;  // width a multiple, height not the same one
+  EXPECT_FALSE(at_vga.driver->cameraInfoFromCalibration(odd));
+  CameraSettings larger;
+  larger.mode = {1280, 960, 30};
+  EXPECT_FALSE(Harness(larger).driver->cameraInfoFromCalibration(vga));
+}
+
 TEST(CameraDriver, TimeoutsAndALostDeviceAreReported) {
   Harness h;
   h.driver->start();

@@ -60,6 +60,14 @@ class RgbdCameraDriver {
   // point in the image centre (what a device reports without calibration).
   sensor_msgs::CameraInfo cameraInfoFromFov() const;
 
+  // A calibration (camera_info_manager's) for this mode: as it is when it
+  // was made at the mode's size; with binning_x and binning_y k when the
+  // mode is its size divided by a whole k (a 640x480 calibration in the
+  // 320x240 mode), which image_geometry and risas read as the reduced
+  // image's intrinsics; none for any other size (the caller falls back to
+  // cameraInfoFromFov, as openni2_camera does).
+  std::optional<sensor_msgs::CameraInfo> cameraInfoFromCalibration(const sensor_msgs::CameraInfo& calibration) const;
+
  private:
   ros::Time stampOf(uint64_t device_us);
 
