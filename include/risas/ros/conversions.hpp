@@ -48,8 +48,8 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, c
 // and depth (16UC1 millimetres, 32FC1 metres) with their CameraInfo. Shares
 // the messages' pixel buffers where it can. InputError, naming the problem,
 // on another encoding, a size mismatch between the images or with the
-// CameraInfo (its size after binning and roi), differing frame_ids (the depth is not registered to the colour
-// image), or bad intrinsics.
+// CameraInfo (its size after binning and roi), differing frame_ids (the
+// depth is not registered to the colour image), or bad intrinsics.
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
                             const sensor_msgs::CameraInfo& info);
 
