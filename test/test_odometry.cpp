@@ -1,14 +1,18 @@
 // risas::Odometry on rendered sequences with known motion: tracking, the
 // keyframe rule, lost and recovered, determinism, reset, the covariance
-// from the inliers, and the reprojection refit on Kinect-like depth.
+// from the inliers, the reprojection refit on Kinect-like depth, and the
+// frame-to-frame motion with the twist made of it.
 #include "synthetic_fixtures.hpp"
 
 #include "risas/errors.hpp"
 #include "risas/odometry.hpp"
 #include "risas/risas.hpp"
+#include "risas/twist.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 namespace risas {
@@ -47,6 +51,21 @@ struct ScatterOf {
   }
   Matrix6 covariance() const { return sum / n; }
 };
+
+// The scatter of f(d_a, d_b) over 4000 draws of two independent
+// perturbations, each axis normal with the standard deviations sd_a, sd_b.
+template <typename F>
+Matrix6 scatterOfTwoDraws(const Vector6& sd_a, const Vector6& sd_b, unsigned seed, F f) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  ScatterOf scatter;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Vector6 d_a, d_b;
+    for (int i = 0; i < 6; ++i) d_a(i) = sd_a(i) * unit(rng), d_b(i) = sd_b(i) * unit(rng);
+    scatter.add(f(d_a, d_b));
+  }
+  return scatter.covariance();
+}
 
 // Each diagonal entry within `tolerance` of the prediction's, relatively.
 void expectDiagonalsNear(const Matrix6& predicted, const Matrix6& sampled, double tolerance) {
@@ -104,9 +123,20 @@ TEST_F(OdometryOnASwing, TracksTheKnownMotionFrameByFrame) {
     if (k == 0) {
       EXPECT_TRUE(r.new_keyframe);
       EXPECT_TRUE(r.world_T_camera.isApprox(Eigen::Isometry3d::Identity()));
+      EXPECT_FALSE(r.motion_tracked);  // nothing before it
       continue;
     }
     EXPECT_GT(r.inliers, 50);
+    // The motion from the previous frame, whether that was the keyframe or
+    // a frame tracked against it.
+    ASSERT_TRUE(r.motion_tracked) << "frame " << k;
+    const Eigen::Isometry3d step = truth(k - 1).inverse() * truth(k);
+    EXPECT_LT((r.previous_T_camera.translation() - step.translation()).norm(), 0.005) << "frame " << k;
+    EXPECT_LT(angleDegBetween(r.previous_T_camera, step), 0.3) << "frame " << k;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_GT(r.motion_covariance(i, i), 0.0);
+      EXPECT_LT(r.motion_covariance(i, i), 1e-3);
+    }
     // A small, finite covariance, growing no faster than the error it stands for.
     for (int i = 0; i < 6; ++i) {
       EXPECT_GT(r.covariance(i, i), 0.0);
@@ -131,6 +161,7 @@ TEST_F(OdometryOnASwing, IsDeterministicAndResetReturnsToTheGivenPose) {
   EXPECT_EQ(a.frames(), 0);
   const OdometryResult first = a.track((*features_)[3]);
   EXPECT_TRUE(first.tracked);
+  EXPECT_FALSE(first.motion_tracked);  // reset() forgets the frame before
   EXPECT_TRUE(first.world_T_camera.isApprox(Eigen::Isometry3d::Identity()));
   const Eigen::Isometry3d start = test::pose({1.0, 2.0, 3.0});
   a.reset(start);
@@ -148,6 +179,7 @@ TEST_F(OdometryOnASwing, ALostFrameHoldsThePoseAndTrackingRecovers) {
   blind.descriptors = cv::Mat(0, (*features_)[0].descriptors.cols, CV_32F);
   OdometryResult r = odometry.track(blind);
   EXPECT_FALSE(r.tracked);
+  EXPECT_FALSE(r.motion_tracked);
   EXPECT_TRUE(odometry.lost());
   EXPECT_TRUE(r.world_T_camera.isApprox(held, 0.0));
   EXPECT_DOUBLE_EQ(r.covariance(0, 0), params.lost_variance);
@@ -156,6 +188,7 @@ TEST_F(OdometryOnASwing, ALostFrameHoldsThePoseAndTrackingRecovers) {
   // pose; it is not tracked itself, but counted as a recovery.
   r = odometry.track((*features_)[5]);
   EXPECT_FALSE(r.tracked);
+  EXPECT_FALSE(r.motion_tracked);  // the motion across the gap is not measured
   EXPECT_TRUE(r.new_keyframe);
   EXPECT_TRUE(r.world_T_camera.isApprox(held, 0.0));
   EXPECT_EQ(odometry.recoveries(), 1);
@@ -167,6 +200,10 @@ TEST_F(OdometryOnASwing, ALostFrameHoldsThePoseAndTrackingRecovers) {
     const Eigen::Isometry3d relative = held.inverse() * r.world_T_camera;
     EXPECT_LT((relative.translation() - relative_truth.translation()).norm(), 0.01);
     EXPECT_LT(angleDegBetween(relative, relative_truth), 0.5);
+    // The motion from the frame before, the recovery's keyframe for 6.
+    ASSERT_TRUE(r.motion_tracked) << "frame " << k;
+    const Eigen::Isometry3d step = truth(k - 1).inverse() * truth(k);
+    EXPECT_LT((r.previous_T_camera.translation() - step.translation()).norm(), 0.005) << "frame " << k;
   }
   EXPECT_FALSE(odometry.lost());
   EXPECT_EQ(odometry.lostFrames(), 2);
@@ -309,8 +346,6 @@ TEST(Covariance, MotionCovarianceIsTheFitsScatterFarFromTheOrigin) {
 TEST(Covariance, ComposingCarriesTheHeadingsUncertaintyOverTheLeverArm) {
   // A keyframe 1° uncertain in heading and a frame 2 m ahead of it: 35 mm
   // of the frame's position comes from the keyframe's rotation alone.
-  std::mt19937 rng(5);
-  std::normal_distribution<double> unit(0.0, 1.0);
   const Eigen::Isometry3d world_T_a =
       Eigen::Translation3d(0.5, -0.2, 1.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 0.9, 0.3).normalized());
   const Eigen::Isometry3d a_T_b =
@@ -319,19 +354,123 @@ TEST(Covariance, ComposingCarriesTheHeadingsUncertaintyOverTheLeverArm) {
   sd_a << 0.002, 0.003, 0.001, 0.004, 0.017, 0.002;
   sd_ab << 0.004, 0.001, 0.002, 0.003, 0.001, 0.005;
   const Matrix6 covariance_a = sd_a.cwiseAbs2().asDiagonal(), covariance_ab = sd_ab.cwiseAbs2().asDiagonal();
-  ScatterOf scatter;
-  for (int trial = 0; trial < 4000; ++trial) {
-    Vector6 d_a, d_ab;
-    for (int i = 0; i < 6; ++i) d_a(i) = sd_a(i) * unit(rng), d_ab(i) = sd_ab(i) * unit(rng);
-    scatter.add(perturbationOf(perturbed(world_T_a, d_a) * perturbed(a_T_b, d_ab), world_T_a * a_T_b));
-  }
+  const Matrix6 scatter = scatterOfTwoDraws(sd_a, sd_ab, 5, [&](const Vector6& d_a, const Vector6& d_ab) {
+    return perturbationOf(perturbed(world_T_a, d_a) * perturbed(a_T_b, d_ab), world_T_a * a_T_b);
+  });
   const Matrix6 composed = composeCovariance(world_T_a, covariance_a, a_T_b, covariance_ab);
-  expectDiagonalsNear(composed, scatter.covariance(), 0.15);
+  expectDiagonalsNear(composed, scatter, 0.15);
   // The old sum, the increment's covariance rotated and added, falls short
   // of the position's scatter by the lever arm's share.
   const Matrix6 summed = covariance_a + rotateCovariance(covariance_ab, world_T_a.linear());
   const double summed_position = summed.topLeftCorner(3, 3).trace();
-  EXPECT_LT(summed_position, 0.5 * scatter.covariance().topLeftCorner(3, 3).trace());
+  EXPECT_LT(summed_position, 0.5 * scatter.topLeftCorner(3, 3).trace());
+}
+
+TEST(Covariance, RelativeCovarianceIsTheScatterOfTheMotionBetweenTwoFits) {
+  // Two frames fitted to one keyframe, their errors independent: the
+  // motion between them, in the first's axes.
+  const Eigen::Isometry3d k_T_a =
+      Eigen::Translation3d(0.2, -0.1, 0.4) * Eigen::AngleAxisd(0.5, Eigen::Vector3d(0.1, 1.0, 0.2).normalized());
+  const Eigen::Isometry3d k_T_b =
+      Eigen::Translation3d(0.9, 0.1, 1.3) * Eigen::AngleAxisd(0.8, Eigen::Vector3d(0.3, 0.8, -0.2).normalized());
+  Vector6 sd_a, sd_b;
+  sd_a << 0.001, 0.004, 0.002, 0.012, 0.003, 0.001;
+  sd_b << 0.003, 0.001, 0.002, 0.002, 0.006, 0.004;
+  const Matrix6 covariance_a = sd_a.cwiseAbs2().asDiagonal(), covariance_b = sd_b.cwiseAbs2().asDiagonal();
+  const Matrix6 scatter = scatterOfTwoDraws(sd_a, sd_b, 6, [&](const Vector6& d_a, const Vector6& d_b) {
+    return perturbationOf(perturbed(k_T_a, d_a).inverse() * perturbed(k_T_b, d_b), k_T_a.inverse() * k_T_b);
+  });
+  expectDiagonalsNear(relativeCovariance(k_T_a, covariance_a, k_T_b, covariance_b), scatter, 0.15);
+  // From the keyframe itself the motion's covariance is the frame's own.
+  EXPECT_TRUE(relativeCovariance(Eigen::Isometry3d::Identity(), Matrix6::Zero(), k_T_b, covariance_b)
+                  .isApprox(covariance_b, 1e-12));
+}
+
+// The motion of a frame moving at a constant velocity (v, w) in its own
+// axes for dt seconds, integrated in many small steps (no logarithm).
+Eigen::Isometry3d constantVelocityMotion(const Vector6& velocity, double dt) {
+  const int steps = 20000;
+  const double h = dt / steps;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(velocity.tail<3>().norm() * h, velocity.tail<3>().normalized()).toRotationMatrix();
+  for (int k = 0; k < steps; ++k) {
+    const Eigen::Matrix3d next = T.linear() * turn;
+    T.translation() += 0.5 * (T.linear() + next) * velocity.head<3>() * h;  // the step's mean heading
+    T.linear() = next;
+  }
+  return T;
+}
+
+TEST(Twist, IsTheConstantVelocityThatCarriesTheFrame) {
+  // A fast turn (57°/s over 0.4 s), where the chord t / dt is not the
+  // velocity: the logarithm recovers it.
+  Vector6 velocity;
+  velocity << 0.5, -0.2, 0.3, 0.4, 0.8, -0.3;
+  const double dt = 0.4;
+  const Eigen::Isometry3d motion = constantVelocityMotion(velocity, dt);
+  const Twist twist = twistFromMotion(motion, Matrix6::Zero(), dt);
+  EXPECT_LT((twist.velocity - velocity).norm(), 1e-6) << twist.velocity.transpose();
+  EXPECT_GT((motion.translation() / dt - velocity.head<3>()).norm(), 0.05);  // the chord is off
+  for (const double bad : {0.0, -0.033, 1e-300, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    EXPECT_THROW(twistFromMotion(motion, Matrix6::Zero(), bad), InputError) << bad;
+  }
+}
+
+// Velocities of motions drawn around `motion` (perturbations in the
+// previous frame's axes, odometry.hpp's convention), their scatter about
+// the nominal velocity.
+Matrix6 velocityScatter(const Eigen::Isometry3d& motion, const Vector6& sd, double dt,
+                        const Eigen::Isometry3d& b_T_a, std::mt19937& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Vector6 nominal = twistFromMotion(b_T_a * motion * b_T_a.inverse(), Matrix6::Zero(), dt).velocity;
+  ScatterOf scatter;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Vector6 d;
+    for (int i = 0; i < 6; ++i) d(i) = sd(i) * unit(rng);
+    const Eigen::Isometry3d drawn = b_T_a * perturbed(motion, d) * b_T_a.inverse();
+    scatter.add(twistFromMotion(drawn, Matrix6::Zero(), dt).velocity - nominal);
+  }
+  return scatter.covariance();
+}
+
+TEST(Twist, ItsCovarianceIsTheVelocitysScatter) {
+  // A motion turning 30° (the previous and current axes far apart) and a
+  // covariance of very different axes: in the wrong axes the small ones
+  // would take the large ones' variance.
+  std::mt19937 rng(8);
+  const Eigen::Isometry3d motion =
+      Eigen::Translation3d(0.3, 0.1, -0.2) * Eigen::AngleAxisd(0.52, Eigen::Vector3d(0.2, 0.3, 1.0).normalized());
+  Vector6 sd;
+  sd << 0.004, 0.0002, 0.001, 0.0003, 0.006, 0.0005;
+  const double dt = 0.1;
+  const Twist twist = twistFromMotion(motion, Matrix6(sd.cwiseAbs2().asDiagonal()), dt);
+  expectDiagonalsNear(twist.covariance, velocityScatter(motion, sd, dt, Eigen::Isometry3d::Identity(), rng), 0.15);
+}
+
+TEST(Twist, ARigidlyAttachedFrameMovesByTheAdjoint) {
+  // A base carrying the camera 0.5 m ahead, its optical axis forward: the
+  // base's velocity and its scatter from the camera's.
+  std::mt19937 rng(9);
+  Eigen::Matrix3d optical;
+  optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  const Eigen::Isometry3d base_T_camera = Eigen::Translation3d(0.5, 0.05, 0.3) * Eigen::Quaterniond(optical);
+  Vector6 velocity;  // the camera's: forward and turning
+  velocity << 0.05, 0.0, 0.6, 0.0, -0.9, 0.05;
+  const double dt = 1.0 / 30.0;
+  const Eigen::Isometry3d motion = constantVelocityMotion(velocity, dt);
+  Vector6 sd;
+  sd << 0.002, 0.0005, 0.003, 0.0004, 0.003, 0.0002;
+  const Twist base = transformTwist(twistFromMotion(motion, Matrix6(sd.cwiseAbs2().asDiagonal()), dt), base_T_camera);
+  const Twist moved = twistFromMotion(base_T_camera * motion * base_T_camera.inverse(), Matrix6::Zero(), dt);
+  EXPECT_LT((base.velocity - moved.velocity).norm(), 1e-6) << base.velocity.transpose() << "\n"
+                                                           << moved.velocity.transpose();
+  // The base turns left (w_base = R w = (0.05, 0, 0.9)), its origin 0.5 m
+  // behind the camera: v_base = R v + t x w_base, its y -0.05 + (0.3 *
+  // 0.05 - 0.5 * 0.9).
+  EXPECT_NEAR(base.velocity(5), 0.9, 1e-6);
+  EXPECT_NEAR(base.velocity(1), -0.05 + (0.3 * 0.05 - 0.5 * 0.9), 1e-6);
+  expectDiagonalsNear(base.covariance, velocityScatter(motion, sd, dt, base_T_camera, rng), 0.15);
 }
 
 }  // namespace

@@ -215,5 +215,44 @@ TEST(CovarianceConsistency, IsOneForErrorsDrawnFromTheCovariance) {
   EXPECT_THROW(eval::covarianceConsistency(eval::associate({estimate[0]}, truth), {covariances[0]}), InputError);
 }
 
+
+// Frame-to-frame motions drawn from the covariances they report (in the
+// first frame's axes, turning 3° a frame), the truth in another world: the
+// ratios are 1. Frames without ground truth leave their motions out.
+TEST(MotionConsistency, IsOneForMotionsDrawnFromTheirCovariance) {
+  std::mt19937 rng(10);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Eigen::Isometry3d G = Eigen::Translation3d(-2.0, 0.5, 1.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(2, 1, -1).normalized());
+  std::vector<StampedPose> estimate, truth;
+  for (int k = 0; k < 2001; ++k) {
+    const Eigen::Isometry3d camera = Eigen::Translation3d(0.02 * k, 0.3 * std::cos(0.05 * k), 0.0) *
+                                     Eigen::AngleAxisd(0.05 * k, Eigen::Vector3d(0.1, 1.0, 0.2).normalized());
+    if (k % 100 != 50) truth.push_back({0.1 * k, G * camera});  // one frame in 100 without ground truth
+    estimate.push_back({0.1 * k, camera});
+  }
+  Eigen::Matrix<double, 6, 1> sd;
+  sd << 0.004, 0.0005, 0.002, 0.001, 0.0002, 0.003;
+  std::vector<eval::FrameMotion> motions;
+  for (size_t k = 1; k < estimate.size(); ++k) {
+    eval::FrameMotion m;
+    m.from = k - 1, m.to = k;
+    m.covariance = sd.cwiseAbs2().asDiagonal();
+    m.from_T_to = estimate[k - 1].world_T_camera.inverse() * estimate[k].world_T_camera;
+    Eigen::Matrix<double, 6, 1> d;
+    for (int i = 0; i < 6; ++i) d(i) = sd(i) * unit(rng);
+    m.from_T_to.translation() += d.head<3>();
+    m.from_T_to.linear() = Eigen::AngleAxisd(d.tail<3>().norm(), d.tail<3>().normalized()) * m.from_T_to.linear();
+    motions.push_back(m);
+  }
+  const eval::AssociatedTrajectory associated = eval::associate(estimate, truth);
+  const eval::CovarianceConsistency c = eval::motionConsistency(associated, motions);
+  EXPECT_EQ(c.poses, 2000 - 2 * 20);
+  EXPECT_NEAR(c.position_ratio, 1.0, 0.1);
+  EXPECT_NEAR(c.rotation_ratio, 1.0, 0.1);
+  for (eval::FrameMotion& m : motions) m.covariance /= 4.0;
+  EXPECT_NEAR(eval::motionConsistency(associated, motions).position_ratio, 4.0, 0.4);
+  EXPECT_THROW(eval::motionConsistency(associated, {}), InputError);
+}
+
 }  // namespace
 }  // namespace risas

@@ -37,6 +37,16 @@ struct OdometryResult {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   int matches = 0, inliers = 0;
   double rmse = 0.0;  // of the inliers, metres
+  // The motion from the previous frame given to track() to this one
+  // (motion_tracked), when this one was tracked and the previous one was
+  // tracked or became the keyframe (a recovery's keyframe, whose held pose
+  // is not measured, is where the next motion is measured from); not after
+  // a lost frame or reset(). previous_T_camera, and its covariance in the
+  // previous camera's axes, the convention below: what a twist is made of
+  // (twist.hpp: twistFromMotion).
+  bool motion_tracked = false;
+  Eigen::Isometry3d previous_T_camera = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> motion_covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 // Pose covariances here are of a pose T = (R, t) in (x, y, z, rotation
@@ -67,6 +77,16 @@ Eigen::Matrix<double, 6, 6> composeCovariance(const Eigen::Isometry3d& world_T_a
                                               const Eigen::Matrix<double, 6, 6>& covariance_a,
                                               const Eigen::Isometry3d& a_T_b,
                                               const Eigen::Matrix<double, 6, 6>& covariance_ab);
+
+// The covariance of a_T_b = k_T_a^-1 * k_T_b (in a's axes) from the
+// covariances of k_T_a and k_T_b (k's axes), their errors taken as
+// independent: composeCovariance solved for a_T_b's. Two frames fitted to
+// the same keyframe share its points' noise, so between them this
+// overstates the motion's uncertainty by the part they have in common.
+Eigen::Matrix<double, 6, 6> relativeCovariance(const Eigen::Isometry3d& k_T_a,
+                                               const Eigen::Matrix<double, 6, 6>& covariance_a,
+                                               const Eigen::Isometry3d& k_T_b,
+                                               const Eigen::Matrix<double, 6, 6>& covariance_b);
 
 class Odometry {
  public:
@@ -103,6 +123,9 @@ class Odometry {
   static Keyframe keyframeOf(const Features& features);
   void makeKeyframe(Keyframe keyframe, const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 6>& covariance);
   Eigen::Matrix<double, 6, 6> lostCovariance() const;
+  // Remembers this frame as the one the next frame's motion is from.
+  void rememberLast(bool tracked, const Eigen::Isometry3d& key_T_frame = Eigen::Isometry3d::Identity(),
+                    const Eigen::Matrix<double, 6, 6>& covariance = Eigen::Matrix<double, 6, 6>::Zero());
 
   OdometryParams params_;
   MatchParams match_;
@@ -110,6 +133,13 @@ class Odometry {
   Keyframe keyframe_;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance_ = Eigen::Matrix<double, 6, 6>::Zero();  // the last tracked frame's
+  // The last frame given to track(), when it was tracked or made the
+  // keyframe: its pose on the keyframe and that pose's covariance in the
+  // keyframe's axes (identity and zero when it is the keyframe). The next
+  // frame's motion is from it.
+  bool last_tracked_ = false;
+  Eigen::Isometry3d key_T_last_ = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> last_covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
   bool lost_ = false;
   int frames_ = 0, lost_frames_ = 0, recoveries_ = 0, keyframes_ = 0;
 };

@@ -28,6 +28,15 @@ Matrix6 composeCovariance(const Eigen::Isometry3d& world_T_a, const Matrix6& cov
   return J_a * covariance_a * J_a.transpose() + rotateCovariance(covariance_ab, world_T_a.linear());
 }
 
+Matrix6 relativeCovariance(const Eigen::Isometry3d& k_T_a, const Matrix6& covariance_a, const Eigen::Isometry3d& k_T_b,
+                           const Matrix6& covariance_b) {
+  // composeCovariance: d_b = J_a d_a + diag(R_ka, R_ka) d_ab, J_a's lever
+  // arm R_ka t_ab = t_kb - t_ka; solved for d_ab.
+  Matrix6 J_a = Matrix6::Identity();
+  J_a.topRightCorner<3, 3>() = -crossProductMatrix(k_T_b.translation() - k_T_a.translation());
+  return rotateCovariance(covariance_b + J_a * covariance_a * J_a.transpose(), k_T_a.linear().transpose());
+}
+
 Matrix6 motionCovariance(const std::vector<Eigen::Vector3d>& rotated_points, double rmse) {
   Matrix6 H = Matrix6::Zero();
   for (const Eigen::Vector3d& x : rotated_points) {
@@ -54,7 +63,14 @@ void Odometry::reset(const Eigen::Isometry3d& world_T_camera) {
   pose_ = world_T_camera;
   covariance_.setZero();
   lost_ = false;
+  rememberLast(false);
   frames_ = lost_frames_ = recoveries_ = keyframes_ = 0;
+}
+
+void Odometry::rememberLast(bool tracked, const Eigen::Isometry3d& key_T_frame, const Matrix6& covariance) {
+  last_tracked_ = tracked;
+  key_T_last_ = key_T_frame;
+  last_covariance_ = covariance;
 }
 
 Odometry::Keyframe Odometry::keyframeOf(const Features& features) {
@@ -109,11 +125,13 @@ OdometryResult Odometry::track(const Features& features) {
     const bool first = !lost_;
     if (static_cast<int>(frame.points.size()) < enough) {
       ++lost_frames_;
+      rememberLast(false);
       r.covariance = lostCovariance();
       return r;
     }
     if (!first) ++recoveries_;
     makeKeyframe(std::move(frame), pose_, covariance_);
+    rememberLast(true);
     lost_ = false;
     r.new_keyframe = true;
     r.tracked = first;
@@ -136,10 +154,12 @@ OdometryResult Odometry::track(const Features& features) {
     // be tracked again. Otherwise the next frame that has them starts anew.
     lost_ = true;
     ++lost_frames_;
+    rememberLast(false);
     r.covariance = lostCovariance();
     if (static_cast<int>(frame.points.size()) >= enough) {
       ++recoveries_;
       makeKeyframe(std::move(frame), pose_, covariance_);
+      rememberLast(true);
       r.new_keyframe = true;
     } else {
       keyframe_ = Keyframe();
@@ -162,6 +182,11 @@ OdometryResult Odometry::track(const Features& features) {
   r.world_T_camera = pose_;
   r.covariance = composeCovariance(keyframe_.world_T_camera, keyframe_.covariance, key_T_frame, increment);
   covariance_ = r.covariance;
+  if (last_tracked_) {
+    r.motion_tracked = true;
+    r.previous_T_camera = key_T_last_.inverse() * key_T_frame;
+    r.motion_covariance = relativeCovariance(key_T_last_, last_covariance_, key_T_frame, increment);
+  }
 
   const double moved = key_T_frame.translation().norm();
   const double turned = Eigen::AngleAxisd(key_T_frame.linear()).angle() * 180.0 / M_PI;
@@ -170,6 +195,9 @@ OdometryResult Odometry::track(const Features& features) {
       turned > params_.keyframe_rotation_deg) {
     makeKeyframe(std::move(frame), pose_, r.covariance);
     r.new_keyframe = true;
+    rememberLast(true);
+  } else {
+    rememberLast(true, key_T_frame, increment);
   }
   return r;
 }

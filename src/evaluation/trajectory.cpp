@@ -70,6 +70,41 @@ TrajectoryError trajectoryError(const AssociatedTrajectory& trajectory, int delt
   return e;
 }
 
+namespace {
+
+// Errors of estimated poses against the truth, each with the covariance it
+// was reported with, tallied into CovarianceConsistency's ratios.
+class ConsistencyTally {
+ public:
+  void add(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth, const Eigen::Matrix<double, 6, 6>& covariance) {
+    const double e2 = (estimate.translation() - truth.translation()).squaredNorm();
+    const double s2 = covariance.topLeftCorner<3, 3>().trace();
+    const double a = Eigen::AngleAxisd(estimate.linear() * truth.linear().transpose()).angle();
+    e_sq_ += e2;
+    variance_ += s2;
+    a_sq_ += a * a;
+    rotation_variance_ += covariance.bottomRightCorner<3, 3>().trace();
+    within_ += e2 < 4.0 * s2;
+    ++poses_;
+  }
+  int poses() const { return poses_; }
+  CovarianceConsistency result() const {
+    CovarianceConsistency c;
+    c.poses = poses_;
+    c.position_ratio = variance_ > 0.0 ? e_sq_ / variance_ : std::numeric_limits<double>::infinity();
+    c.rotation_ratio =
+        rotation_variance_ > 0.0 ? a_sq_ / rotation_variance_ : std::numeric_limits<double>::infinity();
+    c.within_two_sigma = static_cast<double>(within_) / poses_;
+    return c;
+  }
+
+ private:
+  double e_sq_ = 0.0, variance_ = 0.0, a_sq_ = 0.0, rotation_variance_ = 0.0;
+  int within_ = 0, poses_ = 0;
+};
+
+}  // namespace
+
 CovarianceConsistency covarianceConsistency(const AssociatedTrajectory& trajectory,
                                             const std::vector<Eigen::Matrix<double, 6, 6>>& covariances) {
   const size_t n = trajectory.estimate.size();
@@ -79,26 +114,30 @@ CovarianceConsistency covarianceConsistency(const AssociatedTrajectory& trajecto
   if (n < 2) throw InputError("covariance consistency needs at least 2 poses, got " + std::to_string(n));
   const Eigen::Isometry3d estimate_origin = trajectory.estimate[0].world_T_camera.inverse();
   const Eigen::Isometry3d truth_origin = trajectory.truth[0].world_T_camera.inverse();
-  double e_sq = 0.0, variance = 0.0, a_sq = 0.0, rotation_variance = 0.0;
-  int within = 0;
+  ConsistencyTally tally;
   for (size_t i = 1; i < n; ++i) {
-    const Eigen::Isometry3d estimate = estimate_origin * trajectory.estimate[i].world_T_camera;
-    const Eigen::Isometry3d truth = truth_origin * trajectory.truth[i].world_T_camera;
-    const double e2 = (estimate.translation() - truth.translation()).squaredNorm();
-    const double s2 = covariances[i].topLeftCorner<3, 3>().trace();
-    const double a = Eigen::AngleAxisd(estimate.linear() * truth.linear().transpose()).angle();
-    e_sq += e2;
-    variance += s2;
-    a_sq += a * a;
-    rotation_variance += covariances[i].bottomRightCorner<3, 3>().trace();
-    within += e2 < 4.0 * s2;
+    tally.add(estimate_origin * trajectory.estimate[i].world_T_camera,
+              truth_origin * trajectory.truth[i].world_T_camera, covariances[i]);
   }
-  CovarianceConsistency c;
-  c.poses = static_cast<int>(n - 1);
-  c.position_ratio = variance > 0.0 ? e_sq / variance : std::numeric_limits<double>::infinity();
-  c.rotation_ratio = rotation_variance > 0.0 ? a_sq / rotation_variance : std::numeric_limits<double>::infinity();
-  c.within_two_sigma = static_cast<double>(within) / c.poses;
-  return c;
+  return tally.result();
+}
+
+CovarianceConsistency motionConsistency(const AssociatedTrajectory& trajectory, const std::vector<FrameMotion>& motions) {
+  // The truth at each estimate index that has one.
+  std::vector<const Eigen::Isometry3d*> truth_at;
+  for (size_t k = 0; k < trajectory.estimate_index.size(); ++k) {
+    const size_t i = trajectory.estimate_index[k];
+    if (truth_at.size() <= i) truth_at.resize(i + 1, nullptr);
+    truth_at[i] = &trajectory.truth[k].world_T_camera;
+  }
+  const auto truth = [&](size_t i) { return i < truth_at.size() ? truth_at[i] : nullptr; };
+  ConsistencyTally tally;
+  for (const FrameMotion& m : motions) {
+    const Eigen::Isometry3d *from = truth(m.from), *to = truth(m.to);
+    if (from && to) tally.add(m.from_T_to, from->inverse() * *to, m.covariance);
+  }
+  if (tally.poses() == 0) throw InputError("motion consistency needs a motion with ground truth at both ends");
+  return tally.result();
 }
 
 }  // namespace risas::eval

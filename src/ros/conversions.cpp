@@ -2,6 +2,7 @@
 
 #include "risas/errors.hpp"
 #include "risas/params_fields.hpp"
+#include "risas/twist.hpp"
 
 #include <image_geometry/pinhole_camera_model.h>
 #include <sensor_msgs/image_encodings.h>
@@ -9,6 +10,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <type_traits>
 
@@ -237,7 +239,7 @@ geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
 
 nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msgs::Header& header,
                               const std::string& child_frame_id, const Eigen::Isometry3d& base_T_camera,
-                              double lost_variance) {
+                              double lost_variance, double dt) {
   nav_msgs::Odometry odom;
   odom.header = header;
   odom.child_frame_id = child_frame_id;
@@ -249,9 +251,19 @@ nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msg
                                                                         Eigen::Matrix<double, 6, 6>::Zero()),
                                                base_T_camera.linear())
                      : result.covariance;
+  risas::Twist twist;
+  if (result.motion_tracked && dt >= risas::kShortestTwistInterval && std::isfinite(dt)) {
+    twist = risas::transformTwist(risas::twistFromMotion(result.previous_T_camera, result.motion_covariance, dt),
+                                  base_T_camera);
+  } else {
+    twist.covariance = lost_variance * Eigen::Matrix<double, 6, 6>::Identity();
+  }
+  odom.twist.twist = tf2::toMsg(twist.velocity);
   for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
-    odom.twist.covariance[static_cast<size_t>(7 * i)] = lost_variance;
+    for (int j = 0; j < 6; ++j) {
+      odom.pose.covariance[static_cast<size_t>(6 * i + j)] = covariance(i, j);
+      odom.twist.covariance[static_cast<size_t>(6 * i + j)] = twist.covariance(i, j);
+    }
   }
   return odom;
 }

@@ -111,6 +111,12 @@ class OdometryNodelet : public nodelet::Nodelet {
       if (errors_.shouldLog(e.what())) NODELET_ERROR("skipping KeypointArray: %s", e.what());
       return;
     }
+    // The twist's time: from the previous message the odometry tracked.
+    const double dt = last_stamp_ ? (message->header.stamp - *last_stamp_).toSec() : 0.0;
+    last_stamp_ = message->header.stamp;
+    if (r.motion_tracked && dt <= 0.0 && errors_.shouldLog("stamps")) {
+      NODELET_WARN("KeypointArray stamps do not increase (%.3f s after the previous): no twist for this frame", dt);
+    }
     if (!r.tracked && errors_.shouldLog("lost")) {
       NODELET_WARN("odometry lost: %d inliers of %d matches (%d frames lost, %d recoveries so far); holding the pose",
                    r.inliers, r.matches, odometry_->lostFrames(), odometry_->recoveries());
@@ -121,7 +127,7 @@ class OdometryNodelet : public nodelet::Nodelet {
     std_msgs::Header header;
     header.stamp = message->header.stamp;
     header.frame_id = odom_frame_;
-    const nav_msgs::Odometry odom = toOdometry(r, header, child, *base_T_camera, params_.odometry.lost_variance);
+    const nav_msgs::Odometry odom = toOdometry(r, header, child, *base_T_camera, params_.odometry.lost_variance, dt);
     odom_pub_.publish(odom);
 
     if (publish_tf_) {
@@ -151,6 +157,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   int path_length_ = 10000;
   std::optional<std::string> last_descriptor_;  // the last message's descriptor size and layout
   std::optional<Eigen::Isometry3d> base_T_camera_;
+  std::optional<ros::Time> last_stamp_;  // of the last message given to the odometry
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;

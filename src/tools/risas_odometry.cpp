@@ -58,6 +58,26 @@ void printCovarianceConsistency(const risas::eval::AssociatedTrajectory& tracked
             << 100.0 * c.within_two_sigma << " %; rotation " << std::setprecision(2) << c.rotation_ratio << "\n";
 }
 
+// The first seed's frame-to-frame motions (what the ROS node's twist is
+// made of) against the truth's between the same frames.
+void printMotionConsistency(const risas::eval::AssociatedTrajectory& all_frames,
+                            const std::vector<risas::eval::FrameMotion>& motions) {
+  std::vector<bool> has_truth;
+  for (size_t i : all_frames.estimate_index) {
+    has_truth.resize(std::max(has_truth.size(), i + 1));
+    has_truth[i] = true;
+  }
+  const auto scored = [&](size_t i) { return i < has_truth.size() && has_truth[i]; };
+  if (std::none_of(motions.begin(), motions.end(), [&](const auto& m) { return scored(m.from) && scored(m.to); })) {
+    return;
+  }
+  const risas::eval::CovarianceConsistency c = risas::eval::motionConsistency(all_frames, motions);
+  std::cout << std::fixed << std::setprecision(2) << "Frame-to-frame motion's covariance (the twist's) against the "
+            << "truth's motion (" << c.poses << " motions): position mean |e|^2 / mean sigma^2 " << c.position_ratio
+            << ", |e| < 2 sigma on " << std::setprecision(0) << 100.0 * c.within_two_sigma << " %; rotation "
+            << std::setprecision(2) << c.rotation_ratio << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,7 +100,8 @@ int main(int argc, char** argv) {
         "               [--features RISAS|ORB] [--params P.yml] [--frames F.csv] [--delta 1] [--ransac-seeds N]\n"
         "Frame-to-keyframe RGB-D odometry (risas::Odometry) over a TUM-layout sequence; writes the\n"
         "trajectory and, with groundtruth.txt, prints ATE RMSE (after a rigid alignment), RPE and how the\n"
-        "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent).\n"
+        "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
+        "frame-to-frame motion's (a twist's) with the truth's motion.\n"
         "With --ransac-seeds N the same features are tracked N times, RANSAC seeded motion.seed + k:\n"
         "the trajectory written is the first seed's, and the ATE's mean and range over the N follow.\n"
         "Plot it with scripts/plot_trajectory.py GT.txt T.txt [...] --out P.png.",
@@ -123,6 +144,7 @@ int main(int argc, char** argv) {
       risas::Odometry odometry(params.odometry, params.match, motion);
       std::vector<risas::StampedPose> trajectory, tracked;
       std::vector<Eigen::Matrix<double, 6, 6>> tracked_covariances;
+      std::vector<risas::eval::FrameMotion> motions;
       std::ofstream frames_csv;
       if (k == 0 && args.has("frames")) {
         frames_csv.open(args.get("frames"));
@@ -143,6 +165,7 @@ int main(int argc, char** argv) {
           tracked.push_back({stamp, r.world_T_camera});
           tracked_covariances.push_back(r.covariance);
         }
+        if (r.motion_tracked) motions.push_back({i - 1, i, r.previous_T_camera, r.motion_covariance});
         if (frames_csv.is_open()) {
           frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
                      << "," << r.matches << "," << r.inliers << "," << r.rmse << ","
@@ -150,9 +173,10 @@ int main(int argc, char** argv) {
                      << std::sqrt(r.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI << "\n";
         }
       }
+      const risas::eval::AssociatedTrajectory all_frames =
+          scored ? risas::eval::associate(trajectory, truth) : risas::eval::AssociatedTrajectory();
       const risas::eval::TrajectoryError e =
-          scored ? risas::eval::trajectoryError(risas::eval::associate(trajectory, truth), args.getInt("delta", 1))
-                 : risas::eval::TrajectoryError();
+          scored ? risas::eval::trajectoryError(all_frames, args.getInt("delta", 1)) : risas::eval::TrajectoryError();
       ates.push_back(e.ate_rmse);
       if (k > 0) continue;
       risas::writeTumTrajectory(out, trajectory);
@@ -166,6 +190,7 @@ int main(int argc, char** argv) {
                 << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
                 << e.rpe_pairs << " pairs\n";
       printCovarianceConsistency(risas::eval::associate(tracked, truth), tracked_covariances);
+      printMotionConsistency(all_frames, motions);
     }
     if (scored && seeds > 1) {
       // One seed is one draw: where inliers are few, which keyframe poses

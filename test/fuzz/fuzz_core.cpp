@@ -1,6 +1,7 @@
 // Fuzz driver for the core's entry points: RgbdFrame, Risas::extract /
 // detect / compute, matchDescriptors, estimateRigidMotion and RisasParams
-// read from text. One input drives one case of each.
+// read from text, and a twist from a motion found. One input drives one
+// case of each.
 //
 // Invariants it holds the core to (a breach aborts, and so does any
 // sanitizer report):
@@ -20,8 +21,10 @@
 #include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
+#include "risas/odometry.hpp"
 #include "risas/params.hpp"
 #include "risas/risas.hpp"
+#include "risas/twist.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -226,6 +229,34 @@ void refineAndCheck(Bytes& in, const std::vector<cv::Point3f>& q, const std::vec
   }
 }
 
+// A twist from a valid motion and its covariance (from the inliers, as the
+// odometry makes it) refuses nothing but a time that is no interval, and is
+// finite otherwise.
+void twistAndCheck(Bytes& in, const risas::MotionEstimate& m, const std::vector<cv::Point3f>& q,
+                   const std::vector<cv::DMatch>& matches) {
+  std::vector<Eigen::Vector3d> rotated;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (!m.inliers[i]) continue;
+    const cv::Point3f& p = q[static_cast<size_t>(matches[i].queryIdx)];
+    rotated.push_back(m.train_T_query.linear() * Eigen::Vector3d(p.x, p.y, p.z));
+  }
+  const Eigen::Matrix<double, 6, 6> covariance = risas::motionCovariance(rotated, m.rmse);
+  const double dt = in.number(0.0, 0.2);
+  const bool usable = dt >= risas::kShortestTwistInterval && std::isfinite(dt);
+  try {
+    const risas::Twist twist = risas::twistFromMotion(m.train_T_query, covariance, dt);
+    require(usable, "a time that is no interval refused");
+    require(twist.velocity.allFinite() && twist.covariance.allFinite(), "finite twist");
+    // A camera within a metre of the base, turned any way.
+    const Eigen::Isometry3d base_T_camera = Eigen::Translation3d(in.in(-100, 100) * 0.01, 0.0, 0.3) *
+                                            Eigen::AngleAxisd(in.in(-314, 314) * 0.01, Eigen::Vector3d::UnitZ());
+    const risas::Twist base = risas::transformTwist(twist, base_T_camera);
+    require(base.velocity.allFinite() && base.covariance.allFinite(), "finite twist on the base");
+  } catch (const risas::InputError&) {
+    require(!usable, "only the time refused");
+  }
+}
+
 void fuzzMatchingAndMotion(Bytes& in) {
   const int rows_q = in.in(0, 20);
   const int rows_t = in.in(0, 20);
@@ -290,6 +321,7 @@ void fuzzMatchingAndMotion(Bytes& in) {
     require(!m.valid || count == m.num_inliers, "inliers counted");
     require(!m.valid || m.train_T_query.matrix().allFinite(), "finite motion");
     refineAndCheck(in, q, t, matches, m);
+    if (m.valid) twistAndCheck(in, m, q, matches);
   } catch (const risas::InputError&) {
   }
 }

@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace risas_ros {
@@ -240,7 +241,7 @@ TEST(Conversions, OdometryMessagesCarryTheCamerasCovarianceToTheBase) {
   header.frame_id = "odom";
   header.stamp = ros::Time(12.5);
 
-  const nav_msgs::Odometry camera = toOdometry(r, header, "camera_rgb_optical_frame", Eigen::Isometry3d::Identity(), 9999.0);
+  const nav_msgs::Odometry camera = toOdometry(r, header, "camera_rgb_optical_frame", Eigen::Isometry3d::Identity(), 9999.0, 0.1);
   EXPECT_EQ(camera.header.frame_id, "odom");
   EXPECT_EQ(camera.header.stamp, header.stamp);
   EXPECT_EQ(camera.child_frame_id, "camera_rgb_optical_frame");
@@ -252,7 +253,7 @@ TEST(Conversions, OdometryMessagesCarryTheCamerasCovarianceToTheBase) {
   Eigen::Matrix3d optical;
   optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   const Eigen::Isometry3d base_T_camera = Eigen::Translation3d(0.5, 0.05, 0.3) * Eigen::Quaterniond(optical);
-  const nav_msgs::Odometry base = toOdometry(r, header, "base_link", base_T_camera, 9999.0);
+  const nav_msgs::Odometry base = toOdometry(r, header, "base_link", base_T_camera, 9999.0, 0.1);
   EXPECT_EQ(base.child_frame_id, "base_link");
   const auto poseOf = [](const geometry_msgs::Pose& p) {
     geometry_msgs::Transform t;
@@ -290,9 +291,61 @@ TEST(Conversions, OdometryMessagesCarryTheCamerasCovarianceToTheBase) {
   // Lost: the pose held, the lost variances as they are.
   r.tracked = false;
   r.covariance = 9999.0 * Eigen::Matrix<double, 6, 6>::Identity();
-  const nav_msgs::Odometry lost = toOdometry(r, header, "base_link", base_T_camera, 9999.0);
+  const nav_msgs::Odometry lost = toOdometry(r, header, "base_link", base_T_camera, 9999.0, 0.1);
   EXPECT_TRUE(poseOf(lost.pose.pose).isApprox(odom_T_base, 1e-9));
   for (int i = 0; i < 36; ++i) EXPECT_EQ(lost.pose.covariance[static_cast<size_t>(i)], i % 7 == 0 ? 9999.0 : 0.0);
+}
+
+// The twist: the camera moving 2 cm along its optical axis in 1/30 s is a
+// base driving forward at 0.6 m/s; a turn of the camera about its y axis
+// (down) is the base turning right, its origin 0.5 m behind the camera
+// swinging left. Without a motion or a time, the twist is unknown.
+TEST(Conversions, OdometryMessagesCarryTheFrameToFrameMotionAsTheBasesTwist) {
+  Eigen::Matrix3d optical;
+  optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  const Eigen::Isometry3d base_T_camera = Eigen::Translation3d(0.5, 0.0, 0.0) * Eigen::Quaterniond(optical);
+  std_msgs::Header header;
+  header.frame_id = "odom";
+  const double dt = 1.0 / 30.0;
+  risas::OdometryResult r;
+  r.tracked = r.motion_tracked = true;
+  r.previous_T_camera = Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, 0.02));
+  Eigen::Matrix<double, 6, 1> sd;
+  sd << 0.001, 0.002, 0.003, 0.0005, 0.001, 0.0002;
+  r.motion_covariance = sd.cwiseAbs2().asDiagonal();
+  const nav_msgs::Odometry forward = toOdometry(r, header, "base_link", base_T_camera, 9999.0, dt);
+  EXPECT_NEAR(forward.twist.twist.linear.x, 0.6, 1e-9);
+  EXPECT_NEAR(forward.twist.twist.linear.y, 0.0, 1e-9);
+  EXPECT_NEAR(forward.twist.twist.angular.z, 0.0, 1e-9);
+  // In the base's axes, over dt^2: the camera's z (3 mm) is the base's x;
+  // its x (1 mm) the base's -y, to which the yaw (the camera's y turn, 1
+  // mrad) adds its swing of the base 0.5 m behind, and 1 cm more: the
+  // logarithm's, half the 2 cm travelled turning with it.
+  const auto expectVariance = [&](size_t index, double variance) {
+    EXPECT_NEAR(forward.twist.covariance[index], variance / (dt * dt), 1e-3 * variance / (dt * dt)) << index;
+  };
+  expectVariance(0, 0.003 * 0.003);
+  expectVariance(7, 0.001 * 0.001 + 0.51 * 0.51 * 0.001 * 0.001);
+  expectVariance(35, 0.001 * 0.001);
+
+  const double turn = 0.9 * dt;  // rad/s about the camera's y, which points down
+  r.previous_T_camera = Eigen::Isometry3d(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY()));
+  const nav_msgs::Odometry turning = toOdometry(r, header, "base_link", base_T_camera, 9999.0, dt);
+  EXPECT_NEAR(turning.twist.twist.angular.z, -0.9, 1e-9);  // about the base's z, down being -z: a right turn
+  EXPECT_NEAR(turning.twist.twist.linear.y, 0.5 * 0.9, 1e-9);  // v = t x w: the base's origin swings left
+  const nav_msgs::Odometry camera = toOdometry(r, header, "camera_rgb_optical_frame", Eigen::Isometry3d::Identity(), 9999.0, dt);
+  EXPECT_NEAR(camera.twist.twist.angular.y, 0.9, 1e-9);
+  EXPECT_NEAR(camera.twist.twist.linear.x, 0.0, 1e-9);
+
+  for (const double bad : {0.0, -dt, std::nan("")}) {
+    const nav_msgs::Odometry unknown = toOdometry(r, header, "base_link", base_T_camera, 9999.0, bad);
+    EXPECT_EQ(unknown.twist.twist.angular.z, 0.0) << bad;
+    for (int i = 0; i < 36; ++i) EXPECT_EQ(unknown.twist.covariance[static_cast<size_t>(i)], i % 7 == 0 ? 9999.0 : 0.0);
+  }
+  r.motion_tracked = false;
+  const nav_msgs::Odometry first = toOdometry(r, header, "base_link", base_T_camera, 9999.0, dt);
+  EXPECT_EQ(first.twist.twist.linear.x, 0.0);
+  EXPECT_EQ(first.twist.covariance[0], 9999.0);
 }
 
 TEST(Transports, LossyDepthAndUninstalledTransportsAreRefusedByName) {

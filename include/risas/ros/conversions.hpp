@@ -77,11 +77,16 @@ Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
 // start); its covariance, when tracked, is the camera's carried over the
 // camera's offset by its rotational uncertainty (risas::composeCovariance)
 // and turned into odom's axes, in nav_msgs's order (x, y, z, rotation about
-// x, y, z); when lost, the result's own (lost_variance on the diagonal). No
-// twist is estimated: its variances are lost_variance.
+// x, y, z); when lost, the result's own (lost_variance on the diagonal).
+// The twist, child_frame_id's velocity in its own axes (nav_msgs's), is the
+// result's motion from the previous frame over dt seconds
+// (risas::twistFromMotion, carried to the base by risas::transformTwist)
+// when the result has one (motion_tracked) and dt is a time between two
+// frames (finite, at least risas::kShortestTwistInterval); otherwise zero
+// with lost_variance on its diagonal.
 nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msgs::Header& header,
                               const std::string& child_frame_id, const Eigen::Isometry3d& base_T_camera,
-                              double lost_variance);
+                              double lost_variance, double dt);
 
 // Checks the image_transport `transport` named by the parameter ~`parameter`
 // against image_transport's loadable transports (`loadable`, as

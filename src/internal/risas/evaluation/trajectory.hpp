@@ -62,4 +62,17 @@ struct CovarianceConsistency {
 CovarianceConsistency covarianceConsistency(const AssociatedTrajectory& trajectory,
                                             const std::vector<Eigen::Matrix<double, 6, 6>>& covariances);
 
+// The frame-to-frame motions' covariances (OdometryResult::previous_T_camera
+// and motion_covariance, what a twist is made of) against the truth's
+// motion between the same two frames, measured as above with the motion
+// in place of the drift. from and to index the estimate poses given to
+// associate(); motions whose frames have no ground truth are left out.
+struct FrameMotion {
+  size_t from = 0, to = 0;
+  Eigen::Isometry3d from_T_to = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // in from's axes
+};
+// InputError unless at least one motion has ground truth at both ends.
+CovarianceConsistency motionConsistency(const AssociatedTrajectory& trajectory, const std::vector<FrameMotion>& motions);
+
 }  // namespace risas::eval
