@@ -164,6 +164,12 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   const size_t ratio = one.output.find("mean sigma^2 ", consistency);
   ASSERT_NE(ratio, std::string::npos) << one.output;
   EXPECT_LT(std::stod(one.output.substr(ratio + 13)), 1.0) << one.output;
+  // The same for the motions from frame to frame (the twist's), two of them.
+  const size_t motion = one.output.find("Frame-to-frame motion's covariance (the twist's) against the truth's motion (2 motions)");
+  ASSERT_NE(motion, std::string::npos) << one.output;
+  const size_t motion_ratio = one.output.find("mean sigma^2 ", motion);
+  ASSERT_NE(motion_ratio, std::string::npos) << one.output;
+  EXPECT_LT(std::stod(one.output.substr(motion_ratio + 13)), 1.0) << one.output;
   // Per frame, the pose's standard deviations: none at the first (the world
   // is its camera), some at every tracked one.
   std::ifstream csv(file("one.csv"));
