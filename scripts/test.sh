@@ -2,7 +2,8 @@
 # Runs every test of risas on a fresh Debian 12: installs what is missing,
 # then four stages, and exits non-zero when any test fails:
 #   1. ros: the catkin package (Release, gcc): unit tests and rostests (the
-#      display test among them, under an Xvfb of its own);
+#      display test among them, under an Xvfb of its own), and
+#      scripts/demo.sh headless;
 #   2. sanitize: the ROS-free core with ASan+UBSan (gcc; any report is
 #      fatal): its unit tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
 #   3. clang: the ROS-free core with clang (Release): its unit tests;
@@ -30,6 +31,18 @@ if [[ " $stages " == *" ros "* ]]; then
   catkin_make -C "$RISAS_WS" "${RISAS_CMAKE_ARGS[@]}" --force-cmake -j"$(nproc)" run_tests > "$RISAS_WS/run_tests.log" 2>&1 ||
     { tail -50 "$RISAS_WS/run_tests.log"; exit 1; }
   grep -E "^\[ *(RUN|OK|FAILED|PASSED) |FAILURE|Failure" "$RISAS_WS/run_tests.log" | grep -v "^\[ RUN" || true
+  # The README's first command as a user without a display runs it: the
+  # demo publishes keypoints (its rate printed) and saves a match overlay.
+  demo_log="$RISAS_WS/demo.log"
+  if DISPLAY= DEMO_SECONDS=5 "$RISAS_ROOT/scripts/demo.sh" > "$demo_log" 2>&1 && grep -q "average rate" "$demo_log"; then
+    demo_failure=""
+  else
+    demo_failure="<failure message=\"scripts/demo.sh: no rate or no overlay; see $demo_log\"/>"
+    tail -20 "$demo_log"
+  fi
+  grep -E "average rate|overlay" "$demo_log" || true
+  echo "<testsuite name=\"demo\"><testcase classname=\"scripts\" name=\"demo_headless\">$demo_failure</testcase></testsuite>" \
+    > "$RISAS_WS/build/test_results/demo.xml"
   results+=("$RISAS_WS/build/test_results")
   echo "== stage ros took ${SECONDS} s"
 fi
