@@ -62,16 +62,8 @@ void printCovarianceConsistency(const risas::eval::AssociatedTrajectory& tracked
 // made of) against the truth's between the same frames.
 void printMotionConsistency(const risas::eval::AssociatedTrajectory& all_frames,
                             const std::vector<risas::eval::FrameMotion>& motions) {
-  std::vector<bool> has_truth;
-  for (size_t i : all_frames.estimate_index) {
-    has_truth.resize(std::max(has_truth.size(), i + 1));
-    has_truth[i] = true;
-  }
-  const auto scored = [&](size_t i) { return i < has_truth.size() && has_truth[i]; };
-  if (std::none_of(motions.begin(), motions.end(), [&](const auto& m) { return scored(m.from) && scored(m.to); })) {
-    return;
-  }
   const risas::eval::CovarianceConsistency c = risas::eval::motionConsistency(all_frames, motions);
+  if (c.poses == 0) return;
   std::cout << std::fixed << std::setprecision(2) << "Frame-to-frame motion's covariance (the twist's) against the "
             << "truth's motion (" << c.poses << " motions): position mean |e|^2 / mean sigma^2 " << c.position_ratio
             << ", |e| < 2 sigma on " << std::setprecision(0) << 100.0 * c.within_two_sigma << " %; rotation "

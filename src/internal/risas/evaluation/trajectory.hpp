@@ -72,7 +72,8 @@ struct FrameMotion {
   Eigen::Isometry3d from_T_to = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // in from's axes
 };
-// InputError unless at least one motion has ground truth at both ends.
+// poses is 0 (and so are the ratios) when no motion has ground truth at
+// both ends.
 CovarianceConsistency motionConsistency(const AssociatedTrajectory& trajectory, const std::vector<FrameMotion>& motions);
 
 }  // namespace risas::eval
