@@ -92,6 +92,17 @@ class OdometryNodelet : public nodelet::Nodelet {
     }
     std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
     if (!base_frame_.empty() && !(base_T_camera = baseTCamera(camera_frame))) return;
+    // A stamp before the last one tracked is another recording, or the same
+    // bag played again (rosbag play --loop): the odometry starts anew, as
+    // from ~reset, rather than chaining the new start onto the old end.
+    if (last_stamp_ && message->header.stamp < *last_stamp_) {
+      NODELET_INFO("KeypointArray stamped %.3f s before the previous one (a bag played again?): odometry reset to "
+                   "identity",
+                   (*last_stamp_ - message->header.stamp).toSec());
+      odometry_->reset();
+      path_.poses.clear();
+      last_stamp_.reset();
+    }
 
     risas::OdometryResult r;
     try {
@@ -115,7 +126,7 @@ class OdometryNodelet : public nodelet::Nodelet {
     const double dt = last_stamp_ ? (message->header.stamp - *last_stamp_).toSec() : 0.0;
     last_stamp_ = message->header.stamp;
     if (r.motion_tracked && dt <= 0.0 && errors_.shouldLog("stamps")) {
-      NODELET_WARN("KeypointArray stamps do not increase (%.3f s after the previous): no twist for this frame", dt);
+      NODELET_WARN("KeypointArray stamped as the previous one: no twist for this frame");
     }
     if (!r.tracked && errors_.shouldLog("lost")) {
       NODELET_WARN("odometry lost: %d inliers of %d matches (%d frames lost, %d recoveries so far); holding the pose",

@@ -328,6 +328,18 @@ TEST(OdometryPreset, ThePresetsBudgetReachesTheDetector) {
 
 // ---------------------------------------------------------------- Odometry --
 
+// Waits for `count` tracked poses (a measured covariance, not the lost
+// variance) stamped after `after`.
+bool waitForTrackedAfter(const Recorder<nav_msgs::Odometry>& odom, const ros::Time& after, int count, double seconds) {
+  return odom.waitFor(
+      [&](const auto& m) {
+        return std::count_if(m.begin(), m.end(), [&](const auto& o) {
+                 return o->header.stamp > after && o->pose.covariance[0] < 1000.0;
+               }) >= count;
+      },
+      seconds);
+}
+
 TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   ros::NodeHandle nh;
   tf2_ros::Buffer buffer(ros::Duration(60.0));
@@ -476,17 +488,48 @@ TEST(Odometry, ANewDescriptorLayoutStartsANewKeyframeAndTrackingGoesOn) {
   EXPECT_TRUE(said("n_ring=1 n_pie=8 n_bin=8 n_vec=0'): odometry starts a new keyframe at the current pose"));
   // Tracked again on the new layout: ten poses with a measured covariance
   // after the change, and no array refused.
-  const ros::Time changed = ros::Time::now();
-  EXPECT_TRUE(odom.waitFor(
-      [&](const auto& m) {
-        return std::count_if(m.begin(), m.end(), [&](const auto& o) {
-                 return o->header.stamp > changed && o->pose.covariance[0] < 1000.0;
-               }) >= 10;
-      },
-      30.0))
-      << "odometry not tracked after the layout changed";
+  EXPECT_TRUE(waitForTrackedAfter(odom, ros::Time::now(), 10, 30.0)) << "odometry not tracked after the layout changed";
   for (const auto& l : log.messages()) EXPECT_EQ(l->msg.find("skipping KeypointArray"), std::string::npos) << l->msg;
   ASSERT_TRUE(setIntParameters("/risas/descriptor", {{"n_ring", defaults.n_ring}, {"n_bin", defaults.n_bin}}));
+}
+
+// A bag played again (rosbag play --loop) stamps its first array before
+// the last one tracked: the odometry starts anew at identity, says why, and
+// tracks the arrays after it.
+TEST(Odometry, AnEarlierStampStartsTheOdometryAnew) {
+  ros::NodeHandle nh;
+  Recorder<nav_msgs::Odometry> odom(nh, "/odom");
+  Recorder<risas::KeypointArray> keypoints(nh, "/risas/keypoints");
+  Recorder<rosgraph_msgs::Log> log(nh, "/rosout");
+  ASSERT_TRUE(odom.waitForCount(3, 60.0)) << "no odometry on /odom";
+  ASSERT_TRUE(keypoints.waitForCount(1, 10.0));
+  risas::KeypointArray again = *keypoints.messages().back();
+  again.header.stamp -= ros::Duration(20.0);
+  ros::Publisher replay = nh.advertise<risas::KeypointArray>("/risas/keypoints", 1, true);
+  ros::WallDuration(0.5).sleep();
+  replay.publish(again);
+  nav_msgs::OdometryConstPtr restarted;
+  ASSERT_TRUE(odom.waitFor(
+      [&](const auto& m) {
+        for (const auto& o : m) {
+          if (o->header.stamp == again.header.stamp) restarted = o;
+        }
+        return restarted != nullptr;
+      },
+      10.0))
+      << "no odometry for the earlier array";
+  EXPECT_DOUBLE_EQ(restarted->pose.pose.position.x, 0.0);
+  EXPECT_DOUBLE_EQ(restarted->pose.pose.orientation.w, 1.0);
+  EXPECT_GE(restarted->twist.covariance[0], 1000.0);  // no motion into a new start
+  EXPECT_TRUE(log.waitFor(
+      [](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [](const auto& l) {
+          return l->msg.find("before the previous one (a bag played again?): odometry reset") != std::string::npos;
+        });
+      },
+      10.0));
+  EXPECT_TRUE(waitForTrackedAfter(odom, again.header.stamp + ros::Duration(20.0), 5, 20.0))
+      << "odometry not tracked after the earlier array";
 }
 
 // ---------------------------------------------------------------- BadInput --
