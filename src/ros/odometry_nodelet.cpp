@@ -64,10 +64,17 @@ class OdometryNodelet : public nodelet::Nodelet {
 
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
-    odometry_->reset();
-    path_.poses.clear();
+    restart();
     NODELET_INFO("odometry reset to identity");
     return true;
+  }
+
+  // The odometry at identity with a new keyframe, its path empty, and no
+  // previous stamp to take a twist's time from. Called under mutex_.
+  void restart() {
+    odometry_->reset();
+    path_.poses.clear();
+    last_stamp_.reset();
   }
 
   // base_T_camera from tf (static), once it is known.
@@ -99,9 +106,7 @@ class OdometryNodelet : public nodelet::Nodelet {
       NODELET_INFO("KeypointArray stamped %.3f s before the previous one (a bag played again?): odometry reset to "
                    "identity",
                    (*last_stamp_ - message->header.stamp).toSec());
-      odometry_->reset();
-      path_.poses.clear();
-      last_stamp_.reset();
+      restart();
     }
 
     risas::OdometryResult r;

@@ -21,6 +21,7 @@
 #include <iomanip>
 #include <iostream>
 #include <numeric>
+#include <string>
 #include <vector>
 
 namespace {
@@ -44,6 +45,16 @@ risas::Features orbFeatures(const cv::Ptr<cv::ORB>& orb, const risas::RgbdFrame&
   return f;
 }
 
+// One consistency line: `what` (c.poses `counted`): the position's and the
+// rotation's mean |e|^2 / mean sigma^2, and the share within two sigma.
+void printConsistency(const std::string& what, const std::string& counted,
+                      const risas::eval::CovarianceConsistency& c) {
+  std::cout << std::fixed << std::setprecision(2) << what << " (" << c.poses << " " << counted
+            << "): position mean |e|^2 / mean sigma^2 " << c.position_ratio << ", |e| < 2 sigma on "
+            << std::setprecision(0) << 100.0 * c.within_two_sigma << " %; rotation " << std::setprecision(2)
+            << c.rotation_ratio << "\n";
+}
+
 // The first seed's reported covariance against its drift, over the tracked
 // frames that have ground truth (a lost frame's held pose is not measured).
 void printCovarianceConsistency(const risas::eval::AssociatedTrajectory& tracked,
@@ -51,11 +62,9 @@ void printCovarianceConsistency(const risas::eval::AssociatedTrajectory& tracked
   if (tracked.estimate.size() < 2) return;
   std::vector<Eigen::Matrix<double, 6, 6>> associated;
   for (size_t i : tracked.estimate_index) associated.push_back(covariances[i]);
-  const risas::eval::CovarianceConsistency c = risas::eval::covarianceConsistency(tracked, associated);
-  std::cout << std::fixed << std::setprecision(2) << "Covariance against the drift from the first tracked pose ("
-            << c.poses << " poses, no alignment; 1 is consistent, above 1 overconfident): position mean |e|^2 / "
-            << "mean sigma^2 " << c.position_ratio << ", |e| < 2 sigma on " << std::setprecision(0)
-            << 100.0 * c.within_two_sigma << " %; rotation " << std::setprecision(2) << c.rotation_ratio << "\n";
+  printConsistency("Covariance against the drift from the first tracked pose",
+                   "poses, no alignment; 1 is consistent, above 1 overconfident",
+                   risas::eval::covarianceConsistency(tracked, associated));
 }
 
 // The first seed's frame-to-frame motions (what the ROS node's twist is
@@ -64,10 +73,7 @@ void printMotionConsistency(const risas::eval::AssociatedTrajectory& all_frames,
                             const std::vector<risas::eval::FrameMotion>& motions) {
   const risas::eval::CovarianceConsistency c = risas::eval::motionConsistency(all_frames, motions);
   if (c.poses == 0) return;
-  std::cout << std::fixed << std::setprecision(2) << "Frame-to-frame motion's covariance (the twist's) against the "
-            << "truth's motion (" << c.poses << " motions): position mean |e|^2 / mean sigma^2 " << c.position_ratio
-            << ", |e| < 2 sigma on " << std::setprecision(0) << 100.0 * c.within_two_sigma << " %; rotation "
-            << std::setprecision(2) << c.rotation_ratio << "\n";
+  printConsistency("Frame-to-frame motion's covariance (the twist's) against the truth's motion", "motions", c);
 }
 
 }  // namespace
