@@ -462,10 +462,10 @@ TEST(Descriptor, SampleBlurKeepsAShiftedNoisyKeypointNearestItself) {
 // finer groups move a point's votes from one view to the other, while the
 // second ring keeps where the patch's parts lie. The demo scene's texture
 // at a quarter of its contrast, grey noise of one level and Kinect-like
-// depth, the camera 10 and 20 degrees around the scene. Measured: 616
-// against 544 of 917 counterparts matched to themselves (four groups in
-// one ring: 588; two rings of eight: 574); at full contrast 756 against
-// 700, at a tenth 387 against 344.
+// depth, the camera 10 and 20 degrees around the scene. Measured: 589
+// against 519 of 905 counterparts matched to themselves (four groups in
+// one ring: 550; two rings of eight: 547); at full contrast 742 against
+// 686, at a tenth 365 against 304.
 TEST(Descriptor, TwoRingsOfFourRankGroupsMatchMoreOnALowContrastTexture) {
   const SyntheticScene scene = SyntheticScene::demo();
   const Eigen::Vector3d target(0.0, 0.05, 0.15);
