@@ -85,6 +85,32 @@ TEST(Geometry, SlantedPlaneNormalsWithinTwoDegreesOfMillimetreDepth) {
   EXPECT_LT(n.dot(p), 0.0f);
 }
 
+// The tests' Kinect-like depth is as hard on normals as a real Kinect's: a
+// floor 1.2 m off, seen 36 degrees from its normal, as fr3/cabinet's floor
+// is, where the real sensor's normals are off by a median 5.4°
+// (docs/evaluation.md, "Normals over a window of fixed metric size").
+// Measured here: 5.3°; with white noise of the same sigma, which a normal
+// window averages away, 1.1°.
+TEST(Geometry, KinectLikeDepthLeavesNormalsAsNoisyAsARealKinects) {
+  SyntheticScene scene;
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(36.0 * CV_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  scene.addPlane(pose({0, 0, 1.2}, tilt), 4.0, 4.0, Material{});
+  SyntheticRender truth;
+  const RgbdFrame frame = test::kinectLikeFrame(scene, Eigen::Isometry3d::Identity(), 7, 1.0, &truth);
+  const FrameGeometry g = computeGeometry(frame, GeometryParams());
+  std::vector<double> errors;
+  for (int v = 160; v < 320; ++v) {  // the middle, about 1.2 m away
+    for (int u = 200; u < 440; ++u) {
+      if (g.hasNormal(v, u)) errors.push_back(angleDeg(g.normal(v, u), truth.normals.at<cv::Vec3f>(v, u)));
+    }
+  }
+  ASSERT_GT(errors.size(), 30000u);
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  const double median = errors[errors.size() / 2];
+  EXPECT_GT(median, 3.5);
+  EXPECT_LT(median, 8.0);
+}
+
 TEST(Geometry, SphereNormalsWithinFewDegrees) {
   SyntheticScene scene;
   scene.addSphere({0.0, 0.0, 1.2}, 0.3, Material{});
