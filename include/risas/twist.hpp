@@ -12,9 +12,15 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 namespace risas {
 
 constexpr double kShortestTwistInterval = 1e-9;  // seconds
+
+// Whether dt seconds is a time between two frames a twist can be taken
+// over: finite and at least kShortestTwistInterval.
+inline bool isTwistInterval(double dt) { return dt >= kShortestTwistInterval && std::isfinite(dt); }
 
 struct Twist {
   Eigen::Matrix<double, 6, 1> velocity = Eigen::Matrix<double, 6, 1>::Zero();

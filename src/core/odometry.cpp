@@ -98,6 +98,7 @@ void Odometry::makeKeyframe(Keyframe keyframe, const Eigen::Isometry3d& pose, co
   keyframe.covariance = covariance;
   keyframe_ = std::move(keyframe);
   ++keyframes_;
+  rememberLast(true);  // the next frame's motion is from the keyframe itself
 }
 
 Matrix6 Odometry::lostCovariance() const { return params_.lost_variance * Matrix6::Identity(); }
@@ -131,7 +132,6 @@ OdometryResult Odometry::track(const Features& features) {
     }
     if (!first) ++recoveries_;
     makeKeyframe(std::move(frame), pose_, covariance_);
-    rememberLast(true);
     lost_ = false;
     r.new_keyframe = true;
     r.tracked = first;
@@ -159,7 +159,6 @@ OdometryResult Odometry::track(const Features& features) {
     if (static_cast<int>(frame.points.size()) >= enough) {
       ++recoveries_;
       makeKeyframe(std::move(frame), pose_, covariance_);
-      rememberLast(true);
       r.new_keyframe = true;
     } else {
       keyframe_ = Keyframe();
@@ -195,7 +194,6 @@ OdometryResult Odometry::track(const Features& features) {
       turned > params_.keyframe_rotation_deg) {
     makeKeyframe(std::move(frame), pose_, r.covariance);
     r.new_keyframe = true;
-    rememberLast(true);
   } else {
     rememberLast(true, key_T_frame, increment);
   }

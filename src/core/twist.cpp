@@ -58,7 +58,7 @@ Matrix6 adjoint(const Eigen::Isometry3d& T) {
 }  // namespace
 
 Twist twistFromMotion(const Eigen::Isometry3d& previous_T_current, const Matrix6& covariance, double dt) {
-  if (!(dt >= kShortestTwistInterval && std::isfinite(dt))) {
+  if (!isTwistInterval(dt)) {
     throw InputError("twist: the time between the frames must be finite and at least 1 ns, got " +
                      std::to_string(dt) + " s");
   }

@@ -252,7 +252,7 @@ nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msg
                                                base_T_camera.linear())
                      : result.covariance;
   risas::Twist twist;
-  if (result.motion_tracked && dt >= risas::kShortestTwistInterval && std::isfinite(dt)) {
+  if (result.motion_tracked && risas::isTwistInterval(dt)) {
     twist = risas::transformTwist(risas::twistFromMotion(result.previous_T_camera, result.motion_covariance, dt),
                                   base_T_camera);
   } else {

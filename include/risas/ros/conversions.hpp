@@ -82,7 +82,7 @@ Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
 // result's motion from the previous frame over dt seconds
 // (risas::twistFromMotion, carried to the base by risas::transformTwist)
 // when the result has one (motion_tracked) and dt is a time between two
-// frames (finite, at least risas::kShortestTwistInterval); otherwise zero
+// frames (risas::isTwistInterval); otherwise zero
 // with lost_variance on its diagonal.
 nav_msgs::Odometry toOdometry(const risas::OdometryResult& result, const std_msgs::Header& header,
                               const std::string& child_frame_id, const Eigen::Isometry3d& base_T_camera,
