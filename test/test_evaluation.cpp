@@ -274,7 +274,25 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     return names;
   }();
   EXPECT_EQ(variants, expected_variants);
+  // The reprojection refit: named in the pose table's title, and on exact
+  // rendered poses it recovers every pair with every seed as the default does.
+  const fs::path refit = root / "refit";
+  ASSERT_EQ(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods RISAS --pose-refit reprojection" +
+                         " --no-plots --out " + refit.string() + " > /dev/null 2>&1").c_str()),
+            0);
+  std::stringstream refit_md;
+  refit_md << std::ifstream(refit / "summary.md").rdbuf();
+  EXPECT_NE(refit_md.str().find("(2 deg / 2 cm), refitted on the reprojection errors, % of pairs"), std::string::npos)
+      << refit_md.str();
+  std::stringstream default_md;
+  default_md << std::ifstream(out / "summary.md").rdbuf();
+  EXPECT_EQ(default_md.str().find("reprojection"), std::string::npos) << default_md.str();
+  std::ifstream refit_summary(refit / "summary.csv");
+  std::getline(refit_summary, line);
+  ASSERT_TRUE(std::getline(refit_summary, line));
+  EXPECT_EQ(std::stod(cellsOf(line).at(11)), 1.0) << line;
   // Wrong usage and missing data fail clearly.
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --pose-refit icp > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --study rings > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ransac-seeds 0 > /dev/null 2>&1").c_str()), 0);

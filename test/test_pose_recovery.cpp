@@ -117,6 +117,30 @@ TEST(PoseRecovery, SeedsDrawOtherSamplesFromTheSameMatches) {
   EXPECT_THROW(recoverPoseOverSeeds(candidates, 0.8, query, reference, truth, 0), cv::Exception);
 }
 
+// Depth that is wrong along the query's rays (its right half 2 % too far,
+// 2-2.4 cm: within RANSAC's 3 cm, so every match is an inlier) pulls the
+// Umeyama fit, which weighs the query's 3D points; the reprojection refit
+// reads only their bearings, which the error leaves exact, and returns to
+// the truth.
+TEST(PoseRecovery, TheReprojectionRefitIgnoresTheQuerysDepthAlongItsRays) {
+  const Eigen::Isometry3d truth = someMotion();
+  std::vector<cv::Point3f> query = gridOfPoints(), reference;
+  std::vector<Candidate> candidates;
+  exactMatches(query, truth, reference, candidates);
+  for (cv::Point3f& p : query) {
+    if (p.x > 0.0f) p *= 1.02f;
+  }
+  const PoseRecovery umeyama = recoverPose(candidates, 0.8, query, reference, truth);
+  const PoseRecovery reprojection =
+      recoverPose(candidates, 0.8, query, reference, truth, poseRecoveryRansac(), PoseRefit::Reprojection);
+  ASSERT_TRUE(umeyama.estimated && reprojection.estimated);
+  EXPECT_EQ(umeyama.inliers, 20);
+  EXPECT_EQ(reprojection.inliers, 20);
+  EXPECT_GT(umeyama.error.rotation_deg, 1.0);  // measured 1.7 deg
+  EXPECT_LT(reprojection.error.rotation_deg, 0.01);
+  EXPECT_TRUE(reprojection.recoveredClosely());
+}
+
 TEST(PoseRecovery, InlierSpreadIsSmallForPointsAlongALine) {
   // 21 points 1 cm apart along x: the spread across the line is 0, and
   // moved 1 cm off it alternately in y, 1 cm (the points' standard

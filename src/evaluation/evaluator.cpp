@@ -10,12 +10,13 @@
 namespace risas::eval {
 
 Evaluator::Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min,
-                     double report_ratio, int ransac_seeds)
+                     double report_ratio, int ransac_seeds, PoseRefit refit)
     : methods_(std::move(methods)),
       intrinsics_(intrinsics),
       d_min_(d_min),
       report_ratio_(report_ratio),
-      ransac_seeds_(ransac_seeds) {
+      ransac_seeds_(ransac_seeds),
+      refit_(refit) {
   if (ransac_seeds < 1) throw InputError("ransac_seeds must be at least 1, got " + std::to_string(ransac_seeds));
 }
 
@@ -119,7 +120,8 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     r.at_ratio = atThreshold(curve, report_ratio_);
     r.distinct_correct = distinctCorrectMatches(r.candidates, query_pixels, reference_pixels, report_ratio_);
     const std::vector<PoseRecovery> poses =
-        recoverPoseOverSeeds(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, ransac_seeds_);
+        recoverPoseOverSeeds(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, ransac_seeds_,
+                             refit_);
     // The depth check: the first seed's pose, reported, and every miss.
     std::vector<double> agreements;
     for (size_t k = 0; k < poses.size(); ++k) {

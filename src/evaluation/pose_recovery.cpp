@@ -72,14 +72,17 @@ MotionParams poseRecoveryRansac(int seed_index) {
 PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
-                         const MotionParams& ransac) {
+                         const MotionParams& ransac, PoseRefit refit) {
   std::vector<cv::DMatch> matches;
   for (const Candidate& c : candidates) {
     if (c.ratio <= ratio && c.query >= 0 && c.reference >= 0) matches.emplace_back(c.query, c.reference, 0.0f);
   }
   PoseRecovery r;
   r.matches = static_cast<int>(matches.size());
-  const MotionEstimate m = estimateRigidMotion(query_points, reference_points, matches, ransac);
+  MotionEstimate m = estimateRigidMotion(query_points, reference_points, matches, ransac);
+  if (refit == PoseRefit::Reprojection && m.valid) {
+    m = refineByReprojection(query_points, reference_points, matches, m, OdometryParams().reprojection_huber);
+  }
   r.estimated = m.valid;
   if (!m.valid) return r;
   r.inliers = m.num_inliers;
@@ -96,11 +99,11 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
 std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
                                                const std::vector<cv::Point3f>& query_points,
                                                const std::vector<cv::Point3f>& reference_points,
-                                               const Eigen::Isometry3d& ref_T_query, int seeds) {
+                                               const Eigen::Isometry3d& ref_T_query, int seeds, PoseRefit refit) {
   CV_Assert(seeds >= 1);
   std::vector<PoseRecovery> poses;
   for (int k = 0; k < seeds; ++k) {
-    poses.push_back(recoverPose(candidates, ratio, query_points, reference_points, ref_T_query, poseRecoveryRansac(k)));
+    poses.push_back(recoverPose(candidates, ratio, query_points, reference_points, ref_T_query, poseRecoveryRansac(k), refit));
   }
   return poses;
 }

@@ -46,8 +46,10 @@ std::string sumText(double sum) {
 // Per scene: each method's pose success rates per sequence, and over all
 // the scene's pairs, with mean inliers and correct matches over them.
 void writePoseTable(std::ofstream& md, const std::string& scene, const std::vector<std::string>& present,
-                    const std::vector<std::string>& methods, const std::map<Key, Group>& groups, double report_ratio) {
-  md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm), % of pairs\n\n| method |";
+                    const std::vector<std::string>& methods, const std::map<Key, Group>& groups, double report_ratio,
+                    PoseRefit refit) {
+  md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm)"
+     << (refit == PoseRefit::Reprojection ? ", refitted on the reprojection errors" : "") << ", % of pairs\n\n| method |";
   for (const std::string& s : present) md << " " << s << " |";
   md << " all pairs | mean inliers | correct @" << std::setprecision(1) << report_ratio
      << " | distinct correct | keypoints | repeatability | misses the depth prefers |\n|---|";
@@ -85,7 +87,8 @@ std::ofstream openFile(const std::string& dir, const std::string& name) {
 
 }  // namespace
 
-void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio) {
+void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio,
+                  PoseRefit refit) {
   std::filesystem::create_directories(dir);
   // Methods and sequences in the order they were run.
   std::vector<std::string> methods, scenes, sequences;
@@ -200,7 +203,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
          << std::setprecision(1) << ms_sum / n << " |\n";
     }
     md << "\n";
-    writePoseTable(md, scene, present, methods, groups, report_ratio);
+    writePoseTable(md, scene, present, methods, groups, report_ratio, refit);
   }
 }
 

@@ -92,15 +92,18 @@ int main(int argc, char** argv) {
         {"pairs", "LIST", "only these query labels, e.g. 3,5,square,rotate90"},
         {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec, one ring), layout (n_ring x n_bin) or tau"},
         {"ransac-seeds", "N", "pose recovery with N RANSAC seeds, success as the share of them (default: 8)"},
+        {"pose-refit", "NAME", "umeyama: the pose fitted to the inliers' 3D points (default); reprojection: then refined on their reprojection errors, as risas_odometry"},
         {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
-        "               [--pairs LABEL,...] [--study bins|layout|tau] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
+        "               [--pairs LABEL,...] [--study bins|layout|tau] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
+        "               [--params P.yml] [--no-plots]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
-        "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--params P.yml] [--no-plots]\n"
+        "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
+        "               [--params P.yml] [--no-plots]\n"
         "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"
         "agree within 5 cm under the ground truth; PR curves, PR-AUC, precision, recall and\n"
         "correct matches at ratio 0.8; the rigid motion RANSAC recovers from those matches and its\n"
@@ -111,6 +114,12 @@ int main(int argc, char** argv) {
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
     const int ransac_seeds = args.getInt("ransac-seeds", 8);
     if (ransac_seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
+    const std::string refit_name = args.get("pose-refit", "umeyama");
+    if (refit_name != "umeyama" && refit_name != "reprojection") {
+      throw risas::cli::UsageError("--pose-refit is umeyama or reprojection, not '" + refit_name + "'");
+    }
+    const risas::eval::PoseRefit refit =
+        refit_name == "reprojection" ? risas::eval::PoseRefit::Reprojection : risas::eval::PoseRefit::Umeyama;
     const bool tum = args.has("tum");
     if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
@@ -151,7 +160,7 @@ int main(int argc, char** argv) {
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
     risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
-                                     risas::eval::kReportRatio, ransac_seeds);
+                                     risas::eval::kReportRatio, ransac_seeds, refit);
     std::vector<risas::eval::PairResult> results;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const risas::eval::Pair& pair = pairs[i];
@@ -163,7 +172,7 @@ int main(int argc, char** argv) {
       }
       std::cout << "\n";
     }
-    risas::eval::writeReports(out, results, risas::eval::kReportRatio);
+    risas::eval::writeReports(out, results, risas::eval::kReportRatio, refit);
     std::cout << "\nPR-AUC (mean per sequence) and pose recovery; details in " << out << "/summary.csv\n\n";
     std::ifstream summary(std::filesystem::path(out) / "summary.md");
     std::cout << summary.rdbuf();

@@ -42,7 +42,7 @@ struct PairResult {
   // depthAgreement of the first seed's estimate and of the ground truth (NaN
   // without an estimate, and for synthetic_rotate, whose query depth is the
   // reference's): an estimate that explains the depth better than the
-  // ground truth does, while missing it, says the ground truth is off.
+  // ground truth does, while missing it, says the two disagree there.
   double depth_agreement = NAN, depth_agreement_truth = NAN;
   PoseShares shares;         // over every seed
   double ms_per_frame = 0.0; // detect + describe, mean of the pair's two frames
@@ -51,8 +51,10 @@ struct PairResult {
 // A pose that misses (not within 5 deg / 5 cm) although RANSAC found one
 // that fits the depth better than the ground truth does (depthAgreement
 // `agreement` against `truth_agreement`), by at least kDepthPreference of the
-// pixels: a sign that the ground truth, not the method, is off there. False
-// where the depth check could not be made (NaN).
+// pixels: a sign that the depth and the ground truth disagree there (with
+// the 3D fit the depth pulls the pose; the images may side with either,
+// PoseRefit::Reprojection shows which). False where the depth check could
+// not be made (NaN).
 constexpr double kDepthPreference = 0.05;
 bool missPreferredByDepth(const PoseRecovery& pose, double agreement, double truth_agreement);
 
@@ -72,9 +74,11 @@ class Evaluator {
   // d_min: correctness distance (metres); report_ratio: the NNDR at which
   // precision, recall and correct matches are reported; ransac_seeds: how
   // many RANSAC seeds each pair's pose recovery runs with (PoseShares; at
-  // least 1, else InputError).
+  // least 1, else InputError); refit: what its RANSAC motion is finally
+  // fitted to (PoseRefit).
   Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics,
-            double d_min = kCorrectDistance, double report_ratio = kReportRatio, int ransac_seeds = 1);
+            double d_min = kCorrectDistance, double report_ratio = kReportRatio, int ransac_seeds = 1,
+            PoseRefit refit = PoseRefit::Umeyama);
 
   // Every method on the pair; a reference frame shared by several pairs is
   // processed once per method. InputError for unreadable frames.
@@ -98,6 +102,7 @@ class Evaluator {
   Intrinsics intrinsics_;
   double d_min_, report_ratio_;
   int ransac_seeds_;
+  PoseRefit refit_;
   std::map<std::pair<std::string, std::string>, Processed> reference_cache_;  // (method, rgb path)
 };
 
@@ -113,8 +118,10 @@ class Evaluator {
 //                 repeatability (3 px), ms/frame, misses and the misses
 //                 the depth prefers (sums of the pairs' shares)
 //   summary.md    per scene type two markdown tables: mean PR-AUC (the best
-//                 of each sequence in bold), and pose recovery
+//                 of each sequence in bold), and pose recovery (its title
+//                 names the reprojection refit where `refit` is that)
 //   scale.csv     correct-match percentage (correct / matches) per scale step
-void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio);
+void writeReports(const std::string& dir, const std::vector<PairResult>& results, double report_ratio,
+                  PoseRefit refit = PoseRefit::Umeyama);
 
 }  // namespace risas::eval

@@ -1,6 +1,7 @@
 // What a visual-odometry user gets from a method's matches: the rigid motion
 // RANSAC recovers from them, against the ground truth. The same RANSAC
-// (risas::estimateRigidMotion with poseRecoveryRansac()) for every method.
+// (risas::estimateRigidMotion with poseRecoveryRansac()) and the same refit
+// (PoseRefit) for every method.
 #pragma once
 
 #include "risas/evaluation/metrics.hpp"
@@ -59,17 +60,26 @@ double inlierSpread(const std::vector<cv::Point3f>& points);
 double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
                       const Eigen::Isometry3d& ref_T_query, double tolerance = 0.05, int step = 2);
 
+// What the RANSAC motion is finally fitted to. Umeyama: the inliers' 3D
+// points of both frames (estimateRigidMotion's own least-squares fit; the
+// protocol of the issues' figures). Reprojection: that motion refined on
+// the reference points' reprojection errors in the query image
+// (refineByReprojection with OdometryParams' default Huber width, as
+// risas::Odometry refits), so that the query frame's depth enters only
+// through RANSAC's choice of inliers.
+enum class PoseRefit { Umeyama, Reprojection };
+
 // RANSAC of the report: 3 cm inlier distance, a fixed seed, otherwise
 // MotionParams' defaults. With `seed_index` k > 0 the same with the k-th
 // further seed: the same matches, other random samples.
 MotionParams poseRecoveryRansac(int seed_index = 0);
 
 // The candidates with ratio <= `ratio` as matches, their rigid motion by
-// RANSAC, scored against ref_T_query.
+// RANSAC and `refit`, scored against ref_T_query.
 PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
-                         const MotionParams& ransac = poseRecoveryRansac());
+                         const MotionParams& ransac = poseRecoveryRansac(), PoseRefit refit = PoseRefit::Umeyama);
 
 // recoverPose once with each of the first `seeds` RANSAC seeds
 // (poseRecoveryRansac(0 .. seeds - 1)), in that order. Where the inliers are
@@ -78,6 +88,7 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
 std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
                                                const std::vector<cv::Point3f>& query_points,
                                                const std::vector<cv::Point3f>& reference_points,
-                                               const Eigen::Isometry3d& ref_T_query, int seeds);
+                                               const Eigen::Isometry3d& ref_T_query, int seeds,
+                                               PoseRefit refit = PoseRefit::Umeyama);
 
 }  // namespace risas::eval
