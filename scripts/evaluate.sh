@@ -32,7 +32,7 @@ echo "== study: tau -> $out/study_tau"
 # force matching of thousands of 1344-d CSHOT descriptors takes longer than
 # everything else together there (over 14 minutes on the cabinet alone; add
 # them with --methods; docs/evaluation.md keeps their earlier rows).
-recording_methods=RISAS,ORB,SIFT,ORB+RISAS,RISAS+CSHOT
+recording_methods=RISAS,ORB,SIFT,ORB+RISAS,ORB-distinct,ORB-distinct+RISAS,RISAS+CSHOT
 if [ -d "$tum" ]; then
   echo "== TUM fr1_xyz, gaps 3 and 6 -> $out/tum_fr1_xyz"
   "$evaluate" --tum "$tum/fr1_xyz" --fx 517.3 --fy 516.5 --cx 318.6 --cy 255.3 --gaps 3,6 --out "$out/tum_fr1_xyz" | tail -16

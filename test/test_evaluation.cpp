@@ -6,6 +6,8 @@
 #include "risas/evaluation/metrics.hpp"
 #include "risas/evaluation/protocol.hpp"
 
+#include "synthetic_fixtures.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -153,9 +155,56 @@ TEST(Methods, KnowsItsMethodsAndRejectsOthers) {
   const std::vector<std::string> names = methodNames();
   EXPECT_NE(std::find(names.begin(), names.end(), "RISAS"), names.end());
   EXPECT_NE(std::find(names.begin(), names.end(), "ORB"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "ORB-distinct"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "ORB-distinct+RISAS"), names.end());
   EXPECT_EQ(makeMethod("ORB", RisasParams())->norm(), cv::NORM_HAMMING);
   EXPECT_EQ(makeMethod("RISAS", RisasParams())->norm(), cv::NORM_L2);
   EXPECT_THROW(makeMethod("SURF", RisasParams()), InputError);
+}
+
+TEST(Metrics, OnePerImagePointKeepsTheStrongestOfEachPoint) {
+  // A corner at three levels (responses 5, 9, 7 within 3 px of each other),
+  // a point 3 px from the strongest copy (the same point: the tolerance is
+  // inclusive), one 3.5 px from it, and two equal responses 10 px apart.
+  const std::vector<cv::KeyPoint> keypoints = {
+      {{100, 100}, 31, -1, 5}, {{101.5f, 100}, 37, -1, 9}, {{100, 102}, 45, -1, 7}, {{101.5f, 103}, 31, -1, 8},
+      {{105, 100}, 31, -1, 6}, {{200, 50}, 31, -1, 2},     {{210, 50}, 31, -1, 2}};
+  const std::vector<cv::KeyPoint> kept = onePerImagePoint(keypoints);
+  ASSERT_EQ(kept.size(), 4u);
+  EXPECT_EQ(kept[0].pt, cv::Point2f(101.5f, 100));  // the corner's strongest copy, at its own size
+  EXPECT_FLOAT_EQ(kept[0].size, 37.0f);
+  EXPECT_EQ(kept[1].pt, cv::Point2f(105, 100));
+  EXPECT_EQ(kept[2].pt, cv::Point2f(200, 50));  // equal responses in their order
+  EXPECT_EQ(kept[3].pt, cv::Point2f(210, 50));
+  EXPECT_TRUE(onePerImagePoint({}).empty());
+  EXPECT_EQ(onePerImagePoint(keypoints, 0.5).size(), keypoints.size());
+}
+
+TEST(Methods, OrbDistinctDescribesEachOfOrbsPointsOnce) {
+  SyntheticScene scene = SyntheticScene::demo();
+  const RgbdFrame frame = test::renderFrame(scene, test::demoCamera());
+  const MethodOutput orb = makeMethod("ORB", RisasParams())->run(frame, cv::Mat());
+  for (const std::string name : {"ORB-distinct", "ORB-distinct+RISAS"}) {
+    const auto method = makeMethod(name, RisasParams());
+    const MethodOutput out = method->run(frame, cv::Mat());
+    ASSERT_FALSE(out.pixels.empty()) << name;
+    EXPECT_EQ(out.descriptors.rows, static_cast<int>(out.pixels.size())) << name;
+    EXPECT_LT(out.pixels.size(), orb.pixels.size()) << name;
+    for (size_t i = 0; i < out.pixels.size(); ++i) {
+      for (size_t j = 0; j < i; ++j) ASSERT_GT(cv::norm(out.pixels[i] - out.pixels[j]), kSamePointPixels) << name;
+    }
+  }
+  EXPECT_EQ(makeMethod("ORB-distinct", RisasParams())->norm(), cv::NORM_HAMMING);
+  EXPECT_EQ(makeMethod("ORB-distinct+RISAS", RisasParams())->norm(), cv::NORM_L2);
+  // Every one of ORB's points keeps a keypoint of its own: ORB's 1000 are
+  // copies of fewer points (docs/evaluation.md, "Correct matches, each image
+  // point once").
+  const MethodOutput distinct = makeMethod("ORB-distinct", RisasParams())->run(frame, cv::Mat());
+  for (const cv::Point2f& p : orb.pixels) {
+    double nearest = 1e9;
+    for (const cv::Point2f& q : distinct.pixels) nearest = std::min(nearest, cv::norm(p - q));
+    ASSERT_LE(nearest, kSamePointPixels);
+  }
 }
 
 TEST(Evaluator, AMissIsPreferredByTheDepthOnlyWhenItsPoseFitsClearlyBetter) {

@@ -1,6 +1,7 @@
 #include "risas/evaluation/methods.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/evaluation/metrics.hpp"
 #include "risas/risas.hpp"
 
 #include <opencv2/features2d.hpp>
@@ -26,16 +27,34 @@ class RisasMethod : public FeatureMethod {
   Risas risas_;
 };
 
+// Which of a detector's keypoints a method describes.
+enum class Keypoints {
+  All,
+  OnePerImagePoint,  // onePerImagePoint: each corner once, not once per pyramid level
+};
+
+std::vector<cv::KeyPoint> detectOn(const cv::Mat& gray, cv::Feature2D& detector, Keypoints which) {
+  std::vector<cv::KeyPoint> keypoints;
+  detector.detect(gray, keypoints);
+  return which == Keypoints::OnePerImagePoint ? onePerImagePoint(std::move(keypoints)) : keypoints;
+}
+
 // An OpenCV Feature2D on the grey image.
 class OpenCvMethod : public FeatureMethod {
  public:
-  OpenCvMethod(std::string name, cv::Ptr<cv::Feature2D> feature) : name_(std::move(name)), feature_(std::move(feature)) {}
+  OpenCvMethod(std::string name, cv::Ptr<cv::Feature2D> feature, Keypoints which = Keypoints::All)
+      : name_(std::move(name)), feature_(std::move(feature)), which_(which) {}
   std::string name() const override { return name_; }
   int norm() const override { return feature_->defaultNorm(); }
   MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
     std::vector<cv::KeyPoint> keypoints;
     MethodOutput out;
-    feature_->detectAndCompute(frame.gray(), cv::noArray(), keypoints, out.descriptors);
+    if (which_ == Keypoints::All) {
+      feature_->detectAndCompute(frame.gray(), cv::noArray(), keypoints, out.descriptors);
+    } else {
+      keypoints = detectOn(frame.gray(), *feature_, which_);
+      feature_->compute(frame.gray(), keypoints, out.descriptors);
+    }
     for (const cv::KeyPoint& k : keypoints) out.pixels.push_back(k.pt);
     return out;
   }
@@ -43,19 +62,20 @@ class OpenCvMethod : public FeatureMethod {
  private:
   std::string name_;
   cv::Ptr<cv::Feature2D> feature_;
+  Keypoints which_;
 };
 
 // Another detector's keypoints described by RISAS: which of the two stages
 // limits a result (docs/evaluation.md).
 class DescribedByRisas : public FeatureMethod {
  public:
-  DescribedByRisas(std::string name, cv::Ptr<cv::Feature2D> detector, const RisasParams& params)
-      : name_(std::move(name)), detector_(std::move(detector)), risas_(params) {}
+  DescribedByRisas(std::string name, cv::Ptr<cv::Feature2D> detector, const RisasParams& params,
+                   Keypoints which = Keypoints::All)
+      : name_(std::move(name)), detector_(std::move(detector)), risas_(params), which_(which) {}
   std::string name() const override { return name_; }
   int norm() const override { return risas_.defaultNorm(); }
   MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
-    std::vector<cv::KeyPoint> keypoints;
-    detector_->detect(frame.gray(), keypoints);
+    std::vector<cv::KeyPoint> keypoints = detectOn(frame.gray(), *detector_, which_);
     MethodOutput out;
     risas_.compute(frame, keypoints, out.descriptors);
     for (const cv::KeyPoint& k : keypoints) out.pixels.push_back(k.pt);
@@ -66,12 +86,13 @@ class DescribedByRisas : public FeatureMethod {
   std::string name_;
   cv::Ptr<cv::Feature2D> detector_;
   Risas risas_;
+  Keypoints which_;
 };
 
 }  // namespace
 
 std::vector<std::string> methodNames() {
-  std::vector<std::string> names = {"RISAS", "ORB", "SIFT", "ORB+RISAS"};
+  std::vector<std::string> names = {"RISAS", "ORB", "SIFT", "ORB+RISAS", "ORB-distinct", "ORB-distinct+RISAS"};
   if (havePcl()) {
     for (const char* n : {"RISAS+CSHOT", "ISS+CSHOT", "UNIFORM+CSHOT", "SIFT+CSHOT"}) names.push_back(n);
   }
@@ -88,6 +109,12 @@ std::unique_ptr<FeatureMethod> makeMethod(const std::string& name, const RisasPa
   if (name == "ORB") return std::make_unique<OpenCvMethod>(name, cv::ORB::create(1000));
   if (name == "SIFT") return std::make_unique<OpenCvMethod>(name, cv::SIFT::create());
   if (name == "ORB+RISAS") return std::make_unique<DescribedByRisas>(name, cv::ORB::create(1000), params);
+  if (name == "ORB-distinct") {
+    return std::make_unique<OpenCvMethod>(name, cv::ORB::create(1000), Keypoints::OnePerImagePoint);
+  }
+  if (name == "ORB-distinct+RISAS") {
+    return std::make_unique<DescribedByRisas>(name, cv::ORB::create(1000), params, Keypoints::OnePerImagePoint);
+  }
   if (auto pcl = makePclMethod(name, params)) return pcl;
   std::string known;
   for (const std::string& n : methodNames()) known += " " + n;

@@ -95,6 +95,18 @@ int countPositives(const std::vector<cv::Point3f>& query_points, const std::vect
   return positives;
 }
 
+namespace {
+
+// Whether p lies within sqrt(tol2) pixels of one of `kept`.
+bool nearAny(const std::vector<cv::Point2f>& kept, const cv::Point2f& p, double tol2) {
+  return std::any_of(kept.begin(), kept.end(), [&](const cv::Point2f& q) {
+    const cv::Point2f d = p - q;
+    return d.dot(d) <= tol2;
+  });
+}
+
+}  // namespace
+
 int distinctCorrectMatches(const std::vector<Candidate>& candidates, const std::vector<cv::Point2f>& query_pixels,
                            const std::vector<cv::Point2f>& reference_pixels, double threshold,
                            double pixel_tolerance) {
@@ -104,21 +116,29 @@ int distinctCorrectMatches(const std::vector<Candidate>& candidates, const std::
   }
   std::stable_sort(passed.begin(), passed.end(), [](const Candidate* a, const Candidate* b) { return a->ratio < b->ratio; });
   const double tol2 = pixel_tolerance * pixel_tolerance;
-  const auto near = [&](const std::vector<cv::Point2f>& counted, const cv::Point2f& p) {
-    return std::any_of(counted.begin(), counted.end(), [&](const cv::Point2f& q) {
-      const cv::Point2f d = p - q;
-      return d.dot(d) <= tol2;
-    });
-  };
   std::vector<cv::Point2f> counted_query, counted_reference;
   for (const Candidate* c : passed) {
     const cv::Point2f& q = query_pixels.at(static_cast<size_t>(c->query));
     const cv::Point2f& r = reference_pixels.at(static_cast<size_t>(c->reference));
-    if (near(counted_query, q) || near(counted_reference, r)) continue;
+    if (nearAny(counted_query, q, tol2) || nearAny(counted_reference, r, tol2)) continue;
     counted_query.push_back(q);
     counted_reference.push_back(r);
   }
   return static_cast<int>(counted_query.size());
+}
+
+std::vector<cv::KeyPoint> onePerImagePoint(std::vector<cv::KeyPoint> keypoints, double pixel_tolerance) {
+  std::stable_sort(keypoints.begin(), keypoints.end(),
+                   [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
+  const double tol2 = pixel_tolerance * pixel_tolerance;
+  std::vector<cv::KeyPoint> kept;
+  std::vector<cv::Point2f> kept_pixels;
+  for (const cv::KeyPoint& k : keypoints) {
+    if (nearAny(kept_pixels, k.pt, tol2)) continue;
+    kept.push_back(k);
+    kept_pixels.push_back(k.pt);
+  }
+  return kept;
 }
 
 std::vector<PrPoint> prCurve(std::vector<Candidate> candidates, int positives) {

@@ -28,7 +28,8 @@ class FeatureMethod {
   virtual MethodOutput run(const RgbdFrame& frame, const cv::Mat& bgr) const = 0;
 };
 
-// RISAS, ORB, SIFT, and with PCL: RISAS+CSHOT, ISS+CSHOT, UNIFORM+CSHOT, SIFT+CSHOT.
+// RISAS, ORB, SIFT, ORB+RISAS, ORB-distinct, ORB-distinct+RISAS, and with PCL:
+// RISAS+CSHOT, ISS+CSHOT, UNIFORM+CSHOT, SIFT+CSHOT.
 std::vector<std::string> methodNames();
 bool havePcl();
 

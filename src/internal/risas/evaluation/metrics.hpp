@@ -86,6 +86,16 @@ int distinctCorrectMatches(const std::vector<Candidate>& candidates, const std::
                            const std::vector<cv::Point2f>& reference_pixels, double threshold,
                            double pixel_tolerance = kSamePointPixels);
 
+// The strongest keypoint of each image point: taken by descending
+// response (ties in their order), a keypoint within pixel_tolerance of one
+// kept is dropped. ORB made to report each corner once, before it
+// describes, so that its copies neither count as correct matches nor fail
+// each other's ratio test (the methods "ORB-distinct" and
+// "ORB-distinct+RISAS"; docs/evaluation.md, "ORB's keypoints one per image
+// point").
+std::vector<cv::KeyPoint> onePerImagePoint(std::vector<cv::KeyPoint> keypoints,
+                                           double pixel_tolerance = kSamePointPixels);
+
 struct PrPoint {
   double ratio;      // threshold: matches with d1/d2 <= ratio
   double precision;  // correct / matches
