@@ -16,8 +16,9 @@ risas_build > "$RISAS_WS/build.log" 2>&1 || { tail -30 "$RISAS_WS/build.log"; ex
 
 # name folder intrinsics, as ../shared/data/tum/README.md gives them
 while read -r name folder fx fy cx cy; do
-  # RISAS at the defaults, RISAS with config/odometry.yaml (RISAS_vo), ORB.
-  for run in RISAS RISAS_vo ORB; do
+  # RISAS at the defaults, RISAS with config/odometry.yaml (RISAS_vo), ORB,
+  # and ORB's strongest keypoint within 3 px only (ORB-distinct).
+  for run in RISAS RISAS_vo ORB ORB-distinct; do
     echo "== $name, $run"
     params=()
     [ "$run" = RISAS_vo ] && params=(--params "$RISAS_ROOT/config/odometry.yaml")
@@ -27,6 +28,7 @@ while read -r name folder fx fy cx cy; do
   done
   "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
     "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \
+    "$out/${name}_ORB-distinct.txt=ORB-distinct" \
     --out "$out/${name}.png"
 done <<'LIST'
 fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3

@@ -13,8 +13,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <string>
 #include <sys/wait.h>
+#include <vector>
 
 namespace risas {
 namespace {
@@ -205,6 +208,38 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   EXPECT_NE(none.output.find("--ransac-seeds must be at least 1"), std::string::npos) << none.output;
   const ToolRun no_frames = run(common + " --out " + file("none.txt") + " --max-frames 0");
   EXPECT_EQ(no_frames.exit_code, 2) << no_frames.output;
+}
+
+// The same odometry on ORB's features, and on ORB's strongest keypoint of
+// each image point (ORB-distinct): fewer features a frame, every frame
+// tracked on the rendered sequence.
+TEST_F(Tools, OdometryRunsOnOrbAndOnOrbDistinct) {
+  const std::string tum = tumFolder(3).string();
+  const std::string common = "risas_odometry --tum " + tum + " --intrinsics " + file("camera-intrinsics.txt");
+  std::map<std::string, std::vector<int>> features;
+  for (const std::string name : {"ORB", "ORB-distinct"}) {
+    const ToolRun r = run(common + " --features " + name + " --out " + file(name + ".txt") + " --frames " +
+                          file(name + ".csv"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("3 frames, 0 not tracked"), std::string::npos) << name << ": " << r.output;
+    std::ifstream csv(file(name + ".csv"));
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    while (std::getline(csv, line)) {
+      std::stringstream fields(line);
+      std::string field;
+      for (int column = 0; column < 4; ++column) std::getline(fields, field, ',');  // stamp, tracked, keyframe, features
+      features[name].push_back(std::stoi(field));
+    }
+    ASSERT_EQ(features[name].size(), 3u) << name;
+  }
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_GT(features["ORB-distinct"][i], 0);
+    EXPECT_LT(features["ORB-distinct"][i], features["ORB"][i]) << "frame " << i;
+  }
+  const ToolRun unknown = run(common + " --features SURF --out " + file("surf.txt"));
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+  EXPECT_NE(unknown.output.find("--features is RISAS, ORB or ORB-distinct"), std::string::npos) << unknown.output;
 }
 
 TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {

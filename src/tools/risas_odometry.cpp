@@ -4,6 +4,7 @@
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/evaluation/metrics.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"
 #include "risas/odometry.hpp"
@@ -22,17 +23,26 @@
 #include <iostream>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
 
 // ORB (1000 features, OpenCV's defaults) with each keypoint's 3D point from
 // the median depth of its 3x3 neighbourhood, as the evaluation takes it;
-// keypoints without depth are left out.
-risas::Features orbFeatures(const cv::Ptr<cv::ORB>& orb, const risas::RgbdFrame& frame) {
+// keypoints without depth are left out. one_per_point: the strongest of the
+// keypoints within 3 px only, as the evaluation's ORB-distinct (ORB finds
+// most corners again at other pyramid levels; docs/odometry.md).
+risas::Features orbFeatures(const cv::Ptr<cv::ORB>& orb, const risas::RgbdFrame& frame, bool one_per_point) {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  orb->detectAndCompute(frame.gray(), cv::noArray(), keypoints, descriptors);
+  if (one_per_point) {
+    orb->detect(frame.gray(), keypoints);
+    keypoints = risas::eval::onePerImagePoint(std::move(keypoints));
+    orb->compute(frame.gray(), keypoints, descriptors);
+  } else {
+    orb->detectAndCompute(frame.gray(), cv::noArray(), keypoints, descriptors);
+  }
   risas::Features f;
   f.descriptors = cv::Mat(0, descriptors.cols, descriptors.type());
   for (size_t i = 0; i < keypoints.size(); ++i) {
@@ -83,7 +93,9 @@ int main(int argc, char** argv) {
     std::vector<risas::cli::Option> options = {
         {"tum", "DIR", "TUM RGB-D folder: rgb.txt, depth.txt (5000 units per metre), groundtruth.txt"},
         {"out", "T.txt", "trajectory to write (TUM format: timestamp tx ty tz qx qy qz qw)"},
-        {"features", "NAME", "RISAS (default) or ORB (1000, with depth): the same odometry on either"},
+        {"features", "NAME",
+         "RISAS (default), ORB (1000, with depth) or ORB-distinct (ORB's strongest keypoint within 3 px only): the "
+         "same odometry on each"},
         {"frames", "CSV",
          "also write per frame: stamp, tracked, keyframe, features, matches, inliers, rmse and the pose's standard "
          "deviations (position m, rotation deg: the roots of the covariance's traces)"},
@@ -95,7 +107,7 @@ int main(int argc, char** argv) {
     const risas::cli::Args args(
         argc, argv,
         "risas_odometry --tum DIR --out T.txt --intrinsics K.txt | --fx F --fy F --cx C --cy C\n"
-        "               [--features RISAS|ORB] [--params P.yml] [--frames F.csv] [--delta 1] [--ransac-seeds N]\n"
+        "               [--features RISAS|ORB|ORB-distinct] [--params P.yml] [--frames F.csv] [--delta 1] [--ransac-seeds N]\n"
         "Frame-to-keyframe RGB-D odometry (risas::Odometry) over a TUM-layout sequence; writes the\n"
         "trajectory and, with groundtruth.txt, prints ATE RMSE (after a rigid alignment), RPE and how the\n"
         "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
@@ -106,8 +118,8 @@ int main(int argc, char** argv) {
         options);
     cv::setNumThreads(1);
     const std::string out = args.get("out"), features_name = args.get("features", "RISAS");
-    if (features_name != "RISAS" && features_name != "ORB") {
-      throw risas::cli::UsageError("--features is RISAS or ORB, not '" + features_name + "'");
+    if (features_name != "RISAS" && features_name != "ORB" && features_name != "ORB-distinct") {
+      throw risas::cli::UsageError("--features is RISAS, ORB or ORB-distinct, not '" + features_name + "'");
     }
     risas::cli::requireWritable(out);
     if (args.has("frames")) risas::cli::requireWritable(args.get("frames"));
@@ -131,7 +143,7 @@ int main(int argc, char** argv) {
     const auto extract = [&](size_t i) {
       const risas::TumImages images = risas::readTumImages(sequence.frames[i]);
       const risas::RgbdFrame frame(images.bgr, images.depth_metres, K);
-      return features_name == "ORB" ? orbFeatures(orb, frame) : risas->extract(frame);
+      return features_name == "RISAS" ? risas->extract(frame) : orbFeatures(orb, frame, features_name == "ORB-distinct");
     };
     const std::vector<risas::StampedPose> truth =
         scored ? risas::readTumTrajectory(gt.string()) : std::vector<risas::StampedPose>();
