@@ -6,6 +6,8 @@
 
 #include <opencv2/features2d.hpp>
 
+#include <utility>
+
 namespace risas::eval {
 namespace {
 
@@ -27,12 +29,6 @@ class RisasMethod : public FeatureMethod {
   Risas risas_;
 };
 
-// Which of a detector's keypoints a method describes.
-enum class Keypoints {
-  All,
-  OnePerImagePoint,  // onePerImagePoint: each corner once, not once per pyramid level
-};
-
 std::vector<cv::KeyPoint> detectOn(const cv::Mat& gray, cv::Feature2D& detector, Keypoints which) {
   std::vector<cv::KeyPoint> keypoints;
   detector.detect(gray, keypoints);
@@ -49,12 +45,7 @@ class OpenCvMethod : public FeatureMethod {
   MethodOutput run(const RgbdFrame& frame, const cv::Mat&) const override {
     std::vector<cv::KeyPoint> keypoints;
     MethodOutput out;
-    if (which_ == Keypoints::All) {
-      feature_->detectAndCompute(frame.gray(), cv::noArray(), keypoints, out.descriptors);
-    } else {
-      keypoints = detectOn(frame.gray(), *feature_, which_);
-      feature_->compute(frame.gray(), keypoints, out.descriptors);
-    }
+    detectAndDescribe(*feature_, frame.gray(), which_, keypoints, out.descriptors);
     for (const cv::KeyPoint& k : keypoints) out.pixels.push_back(k.pt);
     return out;
   }
@@ -90,6 +81,16 @@ class DescribedByRisas : public FeatureMethod {
 };
 
 }  // namespace
+
+void detectAndDescribe(cv::Feature2D& feature, const cv::Mat& gray, Keypoints which,
+                       std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+  if (which == Keypoints::All) {
+    feature.detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+    return;
+  }
+  keypoints = detectOn(gray, feature, which);
+  feature.compute(gray, keypoints, descriptors);
+}
 
 std::vector<std::string> methodNames() {
   std::vector<std::string> names = {"RISAS", "ORB", "SIFT", "ORB+RISAS", "ORB-distinct", "ORB-distinct+RISAS"};

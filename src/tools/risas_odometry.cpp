@@ -4,7 +4,7 @@
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
-#include "risas/evaluation/metrics.hpp"
+#include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"
 #include "risas/odometry.hpp"
@@ -23,7 +23,6 @@
 #include <iostream>
 #include <numeric>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace {
@@ -36,13 +35,9 @@ namespace {
 risas::Features orbFeatures(const cv::Ptr<cv::ORB>& orb, const risas::RgbdFrame& frame, bool one_per_point) {
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  if (one_per_point) {
-    orb->detect(frame.gray(), keypoints);
-    keypoints = risas::eval::onePerImagePoint(std::move(keypoints));
-    orb->compute(frame.gray(), keypoints, descriptors);
-  } else {
-    orb->detectAndCompute(frame.gray(), cv::noArray(), keypoints, descriptors);
-  }
+  risas::eval::detectAndDescribe(
+      *orb, frame.gray(), one_per_point ? risas::eval::Keypoints::OnePerImagePoint : risas::eval::Keypoints::All,
+      keypoints, descriptors);
   risas::Features f;
   f.descriptors = cv::Mat(0, descriptors.cols, descriptors.type());
   for (size_t i = 0; i < keypoints.size(); ++i) {

@@ -5,6 +5,7 @@
 #include "risas/rgbd_frame.hpp"
 
 #include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
 
 #include <memory>
 #include <string>
@@ -27,6 +28,17 @@ class FeatureMethod {
   // Detect and describe, single-threaded. bgr: the frame's colour image.
   virtual MethodOutput run(const RgbdFrame& frame, const cv::Mat& bgr) const = 0;
 };
+
+// Which of a detector's keypoints a method describes.
+enum class Keypoints {
+  All,
+  OnePerImagePoint,  // onePerImagePoint (metrics.hpp): each corner once, not once per pyramid level
+};
+
+// An OpenCV Feature2D's keypoints on `gray` (those `which` keeps) and their
+// descriptors: ORB and ORB-distinct here and in risas_odometry.
+void detectAndDescribe(cv::Feature2D& feature, const cv::Mat& gray, Keypoints which,
+                       std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
 
 // RISAS, ORB, SIFT, ORB+RISAS, ORB-distinct, ORB-distinct+RISAS, and with PCL:
 // RISAS+CSHOT, ISS+CSHOT, UNIFORM+CSHOT, SIFT+CSHOT.
