@@ -261,6 +261,28 @@ TEST_F(Tools, MatchFindsTheKnownMotionAndDrawsTheOverlay) {
   EXPECT_LT(translation_error, 0.02) << r.output;
 }
 
+// A recording's frame whose depth has no valid pixel (a sensor fault) stops
+// each tool over recordings with one line naming that frame's files.
+TEST_F(Tools, ARecordingsFrameWithoutDepthIsNamed) {
+  const fs::path tum = dir / "tum_without_depth";
+  fs::remove_all(tum);
+  fs::copy(tumFolder(2), tum, fs::copy_options::recursive);
+  const std::string depth_file = (tum / "depth" / "2.png").string();
+  cv::imwrite(depth_file, cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)));
+  const std::string intrinsics = " --intrinsics " + file("camera-intrinsics.txt");
+  for (const std::string& command :
+       {"risas_odometry --tum " + tum.string() + intrinsics + " --out " + file("without_depth.txt"),
+        "risas_evaluate --tum " + tum.string() + intrinsics + " --methods RISAS --no-plots --out " +
+            file("without_depth"),
+        "risas_benchmark --tum " + tum.string() + intrinsics + " --frames 2 --repeats 1"}) {
+    const ToolRun r = run(command);
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.output;
+    const std::string error = r.output.substr(r.output.find("error: "));
+    EXPECT_NE(error.find(depth_file + ": depth image has no valid pixel"), std::string::npos) << command << ": " << r.output;
+    EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << command << ": " << r.output;
+  }
+}
+
 TEST_F(Tools, WrongUsageAndBadInputFailClearly) {
   ToolRun r = run("risas_extract --rgb x.png");
   EXPECT_EQ(r.exit_code, 2);

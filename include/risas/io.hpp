@@ -41,6 +41,7 @@ Intrinsics findIntrinsics(const std::string& dir);
 struct RgbdImages {
   cv::Mat bgr;
   cv::Mat depth_mm;
+  std::string color_path, depth_path;  // the files read, for errors
 };
 RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path);
 
@@ -54,7 +55,10 @@ constexpr double kMillimetreDepthUnits = 1000.0;
 cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre);
 
 // The images, validated into a frame; the depth at `depth_units_per_metre`
-// (depthFromUnits).
+// (depthFromUnits). RgbdFrame's InputError comes back naming both files: a
+// recording's one frame without depth is found by its name.
+RgbdFrame rgbdFrameOf(const RgbdImages& images, const Intrinsics& intrinsics,
+                      double depth_units_per_metre = kMillimetreDepthUnits);
 RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
                         double depth_units_per_metre = kMillimetreDepthUnits);
 

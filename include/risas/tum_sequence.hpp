@@ -6,6 +6,9 @@
 //   depth/*.png          16-bit, kTumDepthUnitsPerMetre units per metre
 #pragma once
 
+#include "risas/intrinsics.hpp"
+#include "risas/rgbd_frame.hpp"
+
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -35,11 +38,14 @@ struct TumSequence {
 
 // A frame's images: colour (BGR) and depth in metres (CV_32FC1, 0 where
 // missing), read as readRgbdImages reads them and scaled by
-// kTumDepthUnitsPerMetre: the one place a TUM depth value becomes metres.
+// kTumDepthUnitsPerMetre. loadTumFrame makes them an RgbdFrame
+// (loadRgbdFrame): its InputError names the frame's two files, so that a
+// recording's one frame whose depth has no valid pixel is found by name.
 struct TumImages {
   cv::Mat bgr, depth_metres;
 };
 TumImages readTumImages(const TumFrame& frame);
+RgbdFrame loadTumFrame(const TumFrame& frame, const Intrinsics& intrinsics);
 
 // A pose at a time stamp: one line of a TUM trajectory file.
 struct StampedPose {

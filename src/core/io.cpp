@@ -145,7 +145,8 @@ Intrinsics findIntrinsics(const std::string& dir) {
 RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path) {
   // Depth as stored: IMREAD_ANYDEPTH alone would turn a 16-bit colour image
   // into grey and accept it.
-  RgbdImages images{readImage(color_path, cv::IMREAD_COLOR, "colour"), readImage(depth_path, cv::IMREAD_UNCHANGED, "depth")};
+  RgbdImages images{readImage(color_path, cv::IMREAD_COLOR, "colour"), readImage(depth_path, cv::IMREAD_UNCHANGED, "depth"),
+                    color_path, depth_path};
   if (images.depth_mm.type() != CV_16UC1) {
     throw InputError("depth image " + depth_path + " must be single-channel 16-bit millimetres, got " +
                      describeType(images.depth_mm));
@@ -164,14 +165,17 @@ cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre) {
   return metres;
 }
 
-RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
-                        double depth_units_per_metre) {
-  const RgbdImages images = readRgbdImages(color_path, depth_path);
+RgbdFrame rgbdFrameOf(const RgbdImages& images, const Intrinsics& intrinsics, double depth_units_per_metre) {
   try {
     return RgbdFrame(images.bgr, depthFromUnits(images.depth_mm, depth_units_per_metre), intrinsics);
   } catch (const InputError& e) {
-    throw InputError(color_path + " + " + depth_path + ": " + e.what());
+    throw InputError(images.color_path + " + " + images.depth_path + ": " + e.what());
   }
+}
+
+RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_path, const Intrinsics& intrinsics,
+                        double depth_units_per_metre) {
+  return rgbdFrameOf(readRgbdImages(color_path, depth_path), intrinsics, depth_units_per_metre);
 }
 
 void writeFeatures(const std::string& path, const Features& features) {

@@ -193,4 +193,8 @@ TumImages readTumImages(const TumFrame& frame) {
   return {images.bgr, depthFromUnits(images.depth_mm, kTumDepthUnitsPerMetre)};
 }
 
+RgbdFrame loadTumFrame(const TumFrame& frame, const Intrinsics& intrinsics) {
+  return loadRgbdFrame(frame.rgb, frame.depth, intrinsics, kTumDepthUnitsPerMetre);
+}
+
 }  // namespace risas

@@ -51,7 +51,7 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
 
 Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   const RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
-  return {images.bgr, RgbdFrame(images.bgr, depthFromUnits(images.depth_mm, paths.depth_units_per_metre), intrinsics_)};
+  return {images.bgr, rgbdFrameOf(images, intrinsics_, paths.depth_units_per_metre)};
 }
 
 bool missPreferredByDepth(const PoseRecovery& pose, double agreement, double truth_agreement) {

@@ -41,8 +41,7 @@ std::vector<risas::RgbdFrame> loadTumSequence(const std::string& dir, const risa
   std::vector<risas::RgbdFrame> frames;
   for (size_t i = 0; i < count; ++i) {
     const size_t index = count == 1 ? 0 : i * (available - 1) / (count - 1);
-    const risas::TumImages images = risas::readTumImages(sequence.frames[index]);
-    frames.emplace_back(images.bgr, images.depth_metres, K);
+    frames.push_back(risas::loadTumFrame(sequence.frames[index], K));
   }
   return frames;
 }

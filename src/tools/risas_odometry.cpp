@@ -136,8 +136,7 @@ int main(int argc, char** argv) {
     const size_t count = static_cast<size_t>(std::min<int>(max_frames, static_cast<int>(sequence.frames.size())));
     std::vector<risas::Features> kept;
     const auto extract = [&](size_t i) {
-      const risas::TumImages images = risas::readTumImages(sequence.frames[i]);
-      const risas::RgbdFrame frame(images.bgr, images.depth_metres, K);
+      const risas::RgbdFrame frame = risas::loadTumFrame(sequence.frames[i], K);
       return features_name == "RISAS" ? risas->extract(frame) : orbFeatures(orb, frame, features_name == "ORB-distinct");
     };
     const std::vector<risas::StampedPose> truth =
