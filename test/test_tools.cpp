@@ -277,7 +277,11 @@ TEST_F(Tools, ARecordingsFrameWithoutDepthIsNamed) {
         "risas_benchmark --tum " + tum.string() + intrinsics + " --frames 2 --repeats 1"}) {
     const ToolRun r = run(command);
     EXPECT_EQ(r.exit_code, 1) << command << ": " << r.output;
-    const std::string error = r.output.substr(r.output.find("error: "));
+    const std::string tool = command.substr(0, command.find(' '));
+    const size_t at = r.output.find(tool + ": error: ");
+    ASSERT_NE(at, std::string::npos) << command << ": " << r.output;
+    EXPECT_TRUE(at == 0 || r.output[at - 1] == '\n') << "not a line of its own: " << r.output;
+    const std::string error = r.output.substr(at);
     EXPECT_NE(error.find(depth_file + ": depth image has no valid pixel"), std::string::npos) << command << ": " << r.output;
     EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << command << ": " << r.output;
   }

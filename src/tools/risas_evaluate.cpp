@@ -166,7 +166,14 @@ int main(int argc, char** argv) {
       const risas::eval::Pair& pair = pairs[i];
       std::cout << "[" << i + 1 << "/" << pairs.size() << "] " << pair.scene << "/" << pair.sequence << " "
                 << pair.label << ":" << std::flush;
-      for (risas::eval::PairResult& r : evaluator.evaluate(pair)) {
+      std::vector<risas::eval::PairResult> pair_results;
+      try {
+        pair_results = evaluator.evaluate(pair);
+      } catch (...) {
+        std::cout << std::endl;  // the error's line starts a line of its own
+        throw;
+      }
+      for (risas::eval::PairResult& r : pair_results) {
         std::cout << "  " << r.method << " " << std::fixed << std::setprecision(2) << r.auc;
         results.push_back(std::move(r));
       }
