@@ -155,7 +155,29 @@ TEST(Neighbourhood, KeepsTheForegroundOfTheDiscAndItsMoments) {
     // Brighter to the right, symmetric about row v0: it points along +u.
     EXPECT_GT(nb->intensity_centroid.x(), 0.0);
     EXPECT_EQ(nb->intensity_centroid.y(), 0.0);
+
+    // Without the centroid: the same moments to the bit, the centroid zero.
+    const auto without = selectNeighbourhood(frame, g, cv::Point2f(u0, v0), radius, 0.2, false);
+    ASSERT_TRUE(without.has_value());
+    EXPECT_EQ(without->kept, nb->kept);
+    EXPECT_EQ(without->centroid, nb->centroid);
+    EXPECT_EQ(without->covariance, nb->covariance);
+    EXPECT_EQ(without->spread, nb->spread);
+    EXPECT_EQ(without->intensity_centroid, Eigen::Vector2d::Zero());
   }
+}
+
+// The centroid is left out only where the gradients decide theta.
+TEST(Neighbourhood, IntensityCentroidIsNeededWhereThetaCanComeFromIt) {
+  DescriptorParams p;
+  p.shape_orientation = false, p.gradient_orientation = true;
+  EXPECT_FALSE(intensityCentroidNeeded(p));
+  p.gradient_orientation = false;
+  EXPECT_TRUE(intensityCentroidNeeded(p));
+  p.shape_orientation = true;  // the fallback near the ray, and an eigenvector's sign
+  EXPECT_TRUE(intensityCentroidNeeded(p));
+  p.gradient_orientation = true;
+  EXPECT_TRUE(intensityCentroidNeeded(p));
 }
 
 // The grey pyramid's levels read the same point of the image: on a ramp

@@ -30,6 +30,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
   std::vector<char> described(static_cast<size_t>(n), 0);
   std::vector<KeypointGeometry> geometries(static_cast<size_t>(n));
 
+  const bool centroid_needed = intensityCentroidNeeded(params_);
   cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       cv::KeyPoint& kp = keypoints[static_cast<size_t>(i)];
@@ -38,7 +39,7 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
       // A patch wider than the image gathers nothing more (and its radius
       // must stay in an int's range for the neighbourhood's loops).
       const float R = std::min(patchRadius(geometry.depth.at<float>(v, u), scales, params_.support_radius, K), max_radius);
-      const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance);
+      const auto nb = selectNeighbourhood(frame, geometry, kp.pt, R, params_.background_distance, centroid_needed);
       if (!nb) continue;
       Orientation orientation = dominantOrientation(*nb, K, params_);
       if (orientation.source == OrientationSource::Rejected) continue;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace risas {
@@ -50,9 +51,15 @@ ScaleRange frameScaleRange(const cv::Mat& depth_metres) {
   return {depthScale(percentile(0.99)), depthScale(percentile(0.01))};
 }
 
+namespace {
+// How many of four lanes a v_signmask sets (a popcount instruction is not in
+// the baseline ISA).
+constexpr int kLanesSet[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+}  // namespace
+
 std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const FrameGeometry& geometry,
                                                  const cv::Point2f& keypoint, float initial_radius_px,
-                                                 double background_distance) {
+                                                 double background_distance, bool with_intensity_centroid) {
   const int u0 = cvRound(keypoint.x), v0 = cvRound(keypoint.y);
   const cv::Size size = frame.size();
   if (u0 < 0 || v0 < 0 || u0 >= size.width || v0 >= size.height) return std::nullopt;
@@ -84,9 +91,10 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // exact while each sum fits 32 bits, as two separate sums needed too.
   int64_t offsets[256] = {};
   // Pixels u .. u + 3 of row v0 + dv, their depths and x factors, those of
-  // the lanes set in `in_disc`.
-  const auto accumulate = [&](const float* depth, const float* x_factor, float y_factor, const uchar* gray, int u,
-                              int dv, const v_float32x4& in_disc) {
+  // the lanes set in `in_disc`; their grey levels too with `with_centroid`
+  // (a std::bool_constant, so that the loops without it have no branch).
+  const auto accumulate = [&](auto with_centroid, const float* depth, const float* x_factor, float y_factor,
+                              const uchar* gray, int u, int dv, const v_float32x4& in_disc) {
     const int64_t row_offset = static_cast<int64_t>(dv) * (int64_t{1} << 32);
     const v_float32x4 z = cv::v_load(depth);
     v_float32x4 x = cv::v_load(x_factor) * z - kx, y = cv::v_setall_f32(y_factor) * z - ky, dz = z - kz;
@@ -96,11 +104,15 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     sx += x, sy += y, sz += dz;
     sxx += x * x, sxy += x * y, sxz += x * dz, syy += y * y, syz += y * dz, szz += dz * dz;
     const int lanes = cv::v_signmask(kept);
-    for (int i = 0; i < 4; ++i) {
-      if (!(lanes >> i & 1)) continue;
-      const uchar g = gray[u + i];
-      ++count[g];
-      offsets[g] += row_offset + (u + i - u0);
+    if constexpr (!decltype(with_centroid)::value) {
+      nb.kept += kLanesSet[lanes];
+    } else {
+      for (int i = 0; i < 4; ++i) {
+        if (!(lanes >> i & 1)) continue;
+        const uchar g = gray[u + i];
+        ++count[g];
+        offsets[g] += row_offset + (u + i - u0);
+      }
     }
   };
   // first_lanes[n]: the first n of four lanes set.
@@ -108,45 +120,52 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   const v_float32x4 first_lanes[4] = {
       cv::v_setzero_f32(), cv::v_reinterpret_as_f32(cv::v_int32x4(-1, 0, 0, 0)),
       cv::v_reinterpret_as_f32(cv::v_int32x4(-1, -1, 0, 0)), cv::v_reinterpret_as_f32(cv::v_int32x4(-1, -1, -1, 0))};
-  for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
-    const float row_r2 = r2 - static_cast<float>(dv * dv);
-    if (row_r2 < 0.0f) continue;
-    const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
-    const int v = v0 + dv, u_begin = std::max(u0 - half, 0), u_end = std::min(u0 + half, size.width - 1) + 1;
-    const float* depth = geometry.depth.ptr<float>(v);
-    const float* x_factor = geometry.x_factor.data();
-    const float y_factor = geometry.y_factor[static_cast<size_t>(v)];
-    const uchar* gray = frame.gray().ptr<uchar>(v);
-    // The disc's rows are a row of the image apart: too far for the CPU's
-    // own prefetching to see coming. Each row asks for the depth and grey
-    // values of the row kPrefetchRows below at its own extent, so they
-    // arrive while this one is summed. (A prefetch past the image is dropped.)
-    constexpr int kPrefetchRows = 2;
-    if (v + kPrefetchRows < size.height) {
-      const float* next_depth = geometry.depth.ptr<float>(v + kPrefetchRows);
-      for (int u = u_begin; u < u_end + 16; u += 16) __builtin_prefetch(next_depth + u);
-      const uchar* next_gray = frame.gray().ptr<uchar>(v + kPrefetchRows);
-      __builtin_prefetch(next_gray + u_begin);
-      __builtin_prefetch(next_gray + u_end);
+  const auto sumDisc = [&](auto with_centroid) {
+    for (int dv = std::max(-radius, -v0); dv <= std::min(radius, size.height - 1 - v0); ++dv) {
+      const float row_r2 = r2 - static_cast<float>(dv * dv);
+      if (row_r2 < 0.0f) continue;
+      const int half = static_cast<int>(std::sqrt(row_r2));  // the disc's extent in this row
+      const int v = v0 + dv, u_begin = std::max(u0 - half, 0), u_end = std::min(u0 + half, size.width - 1) + 1;
+      const float* depth = geometry.depth.ptr<float>(v);
+      const float* x_factor = geometry.x_factor.data();
+      const float y_factor = geometry.y_factor[static_cast<size_t>(v)];
+      const uchar* gray = frame.gray().ptr<uchar>(v);
+      // The disc's rows are a row of the image apart: too far for the CPU's
+      // own prefetching to see coming. Each row asks for the depth and grey
+      // values of the row kPrefetchRows below at its own extent, so they
+      // arrive while this one is summed. (A prefetch past the image is dropped.)
+      constexpr int kPrefetchRows = 2;
+      if (v + kPrefetchRows < size.height) {
+        const float* next_depth = geometry.depth.ptr<float>(v + kPrefetchRows);
+        for (int u = u_begin; u < u_end + 16; u += 16) __builtin_prefetch(next_depth + u);
+        const uchar* next_gray = frame.gray().ptr<uchar>(v + kPrefetchRows);
+        __builtin_prefetch(next_gray + u_begin);
+        __builtin_prefetch(next_gray + u_end);
+      }
+      int u = u_begin;
+      for (; u + 4 <= u_end; u += 4) accumulate(with_centroid, depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
+      if (u == u_end) continue;
+      // The last pixels: the four from u with the lanes past the disc masked
+      // off, read in place while they lie in the image (a copy of them cost a
+      // call to memcpy per row), else from copies padded with NaN depth.
+      const v_float32x4& last = first_lanes[u_end - u];
+      if (u + 4 <= size.width) {
+        accumulate(with_centroid, depth + u, x_factor + u, y_factor, gray, u, dv, last);
+      } else {
+        float tail_depth[4], tail_x_factor[4] = {};
+        std::fill_n(tail_depth, 4, std::numeric_limits<float>::quiet_NaN());
+        std::copy(depth + u, depth + u_end, tail_depth);
+        std::copy(x_factor + u, x_factor + u_end, tail_x_factor);
+        accumulate(with_centroid, tail_depth, tail_x_factor, y_factor, gray, u, dv, last);
+      }
     }
-    int u = u_begin;
-    for (; u + 4 <= u_end; u += 4) accumulate(depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
-    if (u == u_end) continue;
-    // The last pixels: the four from u with the lanes past the disc masked
-    // off, read in place while they lie in the image (a copy of them cost a
-    // call to memcpy per row), else from copies padded with NaN depth.
-    const v_float32x4& last = first_lanes[u_end - u];
-    if (u + 4 <= size.width) {
-      accumulate(depth + u, x_factor + u, y_factor, gray, u, dv, last);
-    } else {
-      float tail_depth[4], tail_x_factor[4] = {};
-      std::fill_n(tail_depth, 4, std::numeric_limits<float>::quiet_NaN());
-      std::copy(depth + u, depth + u_end, tail_depth);
-      std::copy(x_factor + u, x_factor + u_end, tail_x_factor);
-      accumulate(tail_depth, tail_x_factor, y_factor, gray, u, dv, last);
-    }
+  };
+  if (with_intensity_centroid) {
+    sumDisc(std::true_type{});
+  } else {
+    sumDisc(std::false_type{});
   }
-  for (int g = 0; g < 256; ++g) nb.kept += count[g];
+  for (int g = 0; g < 256; ++g) nb.kept += count[g];  // with the centroid; else counted as summed
   if (nb.kept < 3) return std::nullopt;
   const double inv = 1.0 / nb.kept;
   const auto sum = [](const v_float32x4& lanes) -> double { return cv::v_reduce_sum(lanes); };
@@ -163,6 +182,7 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   // middle rank is (n - 1) / 2. All pixels of one grey level share a rank,
   // so the sum runs over levels. Twice a middle rank less the mean,
   // 2 below + count - kept, is an integer: the sums are exact in integers.
+  if (!with_intensity_centroid) return nb;
   int64_t sum_u = 0, sum_v = 0;
   for (int g = 0, below = 0; g < 256; below += count[g], ++g) {
     const int64_t twice_rank = 2 * below + count[g] - nb.kept;

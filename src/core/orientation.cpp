@@ -124,6 +124,10 @@ Orientation dominantOrientation(const Neighbourhood& nb, const Intrinsics& intri
   return result;
 }
 
+bool intensityCentroidNeeded(const DescriptorParams& params) {
+  return params.shape_orientation || !params.gradient_orientation;
+}
+
 double gradientOrientation(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& nb,
                            float radius_px, const DescriptorParams& params) {
   if (cv::useOptimized() && gradientOrientationKernelFits(params)) {

@@ -46,14 +46,17 @@ struct Neighbourhood {
   Eigen::Matrix3d spread;          // mean (p - k_i)(p - k_i)^T: the ellipse about k_i
   // sum (rank(I) - mean rank)(q - k) over the kept pixels q: where the
   // patch is brighter, in pixels, unchanged by monotonic intensity changes.
-  Eigen::Vector2d intensity_centroid;
+  Eigen::Vector2d intensity_centroid = Eigen::Vector2d::Zero();
 };
 
 // None when the keypoint has no 3D point or normal or too few foreground
-// neighbours to describe.
+// neighbours to describe. Without `with_intensity_centroid` the
+// intensity_centroid stays zero and every other field is the same: it is
+// the grey levels' share of the work, and theta from the patch's gradients
+// does not read it (intensityCentroidNeeded).
 std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const FrameGeometry& geometry,
                                                  const cv::Point2f& keypoint, float initial_radius_px,
-                                                 double background_distance);
+                                                 double background_distance, bool with_intensity_centroid = true);
 
 // Eq. 6 and what follows it: the ellipse centred at k_i with the second
 // moments of the kept points, projected into the image, gives the patch

@@ -35,6 +35,13 @@ struct Orientation {
 Orientation dominantOrientation(const Neighbourhood& neighbourhood, const Intrinsics& intrinsics,
                                 const DescriptorParams& params);
 
+// Whether the theta a descriptor keeps can depend on the neighbourhood's
+// intensity centroid: with shape_orientation (an eigenvector's sign, the
+// fallback), or without gradient_orientation (theta itself). Otherwise the
+// gradients replace the centroid's theta, and selectNeighbourhood may leave
+// it out.
+bool intensityCentroidNeeded(const DescriptorParams& params);
+
 // theta from the patch's grey gradients at the patch's own scale
 // (descriptor.gradient_orientation), SIFT's orientation assignment (Lowe
 // 2004, section 5) on the descriptor's sample grid: the disc of radius_px,
