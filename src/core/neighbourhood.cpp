@@ -131,16 +131,19 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
       const float y_factor = geometry.y_factor[static_cast<size_t>(v)];
       const uchar* gray = frame.gray().ptr<uchar>(v);
       // The disc's rows are a row of the image apart: too far for the CPU's
-      // own prefetching to see coming. Each row asks for the depth and grey
-      // values of the row kPrefetchRows below at its own extent, so they
-      // arrive while this one is summed. (A prefetch past the image is dropped.)
+      // own prefetching to see coming. Each row asks for the depth (and with
+      // the centroid the grey) values of the row kPrefetchRows below at its
+      // own extent, so they arrive while this one is summed. (A prefetch past
+      // the image is dropped.)
       constexpr int kPrefetchRows = 2;
       if (v + kPrefetchRows < size.height) {
         const float* next_depth = geometry.depth.ptr<float>(v + kPrefetchRows);
         for (int u = u_begin; u < u_end + 16; u += 16) __builtin_prefetch(next_depth + u);
-        const uchar* next_gray = frame.gray().ptr<uchar>(v + kPrefetchRows);
-        __builtin_prefetch(next_gray + u_begin);
-        __builtin_prefetch(next_gray + u_end);
+        if constexpr (decltype(with_centroid)::value) {
+          const uchar* next_gray = frame.gray().ptr<uchar>(v + kPrefetchRows);
+          __builtin_prefetch(next_gray + u_begin);
+          __builtin_prefetch(next_gray + u_end);
+        }
       }
       int u = u_begin;
       for (; u + 4 <= u_end; u += 4) accumulate(with_centroid, depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
