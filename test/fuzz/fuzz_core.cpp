@@ -1,7 +1,8 @@
 // Fuzz driver for the core's entry points: RgbdFrame, Risas::extract /
 // detect / compute, matchDescriptors, estimateRigidMotion and RisasParams
-// read from text, and a twist from a motion found. One input drives one
-// case of each.
+// read from text, a twist from a motion found, and a TUM RGB-D folder's
+// lists and trajectory (readTumSequence, readTumTrajectory). One input
+// drives one case of each.
 //
 // Invariants it holds the core to (a breach aborts, and so does any
 // sanitizer report):
@@ -13,7 +14,10 @@
 //     one entry per keypoint with a finite point in front of the camera and
 //     a unit normal;
 //   - matches index existing rows; a motion's inlier mask has one entry per
-//     match and counts num_inliers, its transform is finite.
+//     match and counts num_inliers, its transform is finite;
+//   - a TUM folder read gives frames in ascending colour stamps, each of an
+//     existing colour and depth file and a depth stamp within the
+//     tolerance, and poses that are finite rotations and translations.
 //
 // Built two ways (test/fuzz/CMakeLists.txt): with clang and -fsanitize=fuzzer
 // as a libFuzzer target, and everywhere as `risas_fuzz_loop`, a seeded,
@@ -24,7 +28,10 @@
 #include "risas/odometry.hpp"
 #include "risas/params.hpp"
 #include "risas/risas.hpp"
+#include "risas/tum_sequence.hpp"
 #include "risas/twist.hpp"
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +39,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -326,6 +335,107 @@ void fuzzMatchingAndMotion(Bytes& in) {
   }
 }
 
+// A folder of its own for the TUM case, made once and removed at exit, with
+// one colour and one depth image (empty: the reader only checks they exist).
+class TumFolder {
+ public:
+  TumFolder() : path_(std::filesystem::temp_directory_path() / ("risas_fuzz_tum_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path_ / "rgb");
+    std::filesystem::create_directories(path_ / "depth");
+    std::ofstream(path_ / "rgb" / "a.png") << "x";
+    std::ofstream(path_ / "depth" / "a.png") << "x";
+  }
+  ~TumFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+bool isRigid(const Eigen::Isometry3d& T) {
+  const Eigen::Matrix3d R = T.linear();
+  return T.matrix().allFinite() && (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-9 &&
+         R.determinant() > 0.0;
+}
+
+// A number as a line may hold it. Mostly `ordinary`; now and then one the
+// reader must refuse (nan, inf, beyond a double's range, a letter after it)
+// or any double (Bytes::number). The loop's bytes are often small and 0
+// once the input runs out, so those give the ordinary value.
+std::string numberText(Bytes& in, double ordinary) {
+  char text[40];
+  switch (in.byte() % 64) {
+    case 59: std::snprintf(text, sizeof text, "%.17g", in.number(-1e9, 1e9)); return text;
+    case 60: return "nan";
+    case 61: return "-inf";
+    case 62: return "1e999";
+    case 63: return "1.5x";
+    default: std::snprintf(text, sizeof text, "%.9g", ordinary); return text;
+  }
+}
+
+// Lines of rgb.txt or depth.txt ("stamp file", the one image of the folder
+// or a missing one) or of groundtruth.txt (eight numbers), now and then a
+// comment, a blank line, a field too few or too many, or raw bytes.
+std::string tumLines(Bytes& in, const std::string& image) {
+  std::string text;
+  for (int n = in.in(0, 10); n > 0; --n) {
+    const int kind = in.byte() % 32;  // 0 .. 26: a line as it should be
+    std::string line;
+    if (kind == 27) {
+      line = "# comment";
+    } else if (kind == 29) {
+      for (int k = in.in(0, 12); k > 0; --k) line += static_cast<char>(in.byte());
+    } else if (kind != 28) {
+      line = numberText(in, 10.0 + 0.005 * in.in(0, 40));  // a 5 ms grid: colour, depth and poses pair
+      if (!image.empty()) {
+        line += kind == 30 ? " missing.png" : " " + image;
+      } else {
+        for (int k = kind == 30 ? 6 : 7; k > 0; --k) line += " " + numberText(in, (in.byte() - 100) / 100.0);
+      }
+      if (kind == 31) line += " extra";
+    }
+    text += line + "\n";
+  }
+  return text;
+}
+
+void fuzzTumFolder(Bytes& in) {
+  static const TumFolder folder;
+  const std::filesystem::path& dir = folder.path();
+  std::ofstream(dir / "rgb.txt") << tumLines(in, "rgb/a.png");
+  std::ofstream(dir / "depth.txt") << tumLines(in, "depth/a.png");
+  const std::filesystem::path gt = dir / "groundtruth.txt";
+  if (in.byte() % 4) {
+    std::ofstream(gt) << tumLines(in, "");
+  } else {
+    std::filesystem::remove(gt);
+  }
+  const double tolerance = in.byte() % 8 ? 0.02 : in.number(0, 0.2);
+  try {
+    const risas::TumSequence s = risas::readTumSequence(dir.string(), tolerance);
+    require(!s.frames.empty() && s.unmatched_rgb >= 0 && s.unmatched_depth >= 0, "frames and counts");
+    for (size_t i = 0; i < s.frames.size(); ++i) {
+      const risas::TumFrame& f = s.frames[i];
+      require(i == 0 || s.frames[i - 1].stamp <= f.stamp, "colour stamps ascending");
+      require(std::isfinite(f.stamp) && std::abs(f.stamp - f.depth_stamp) < tolerance, "depth within the tolerance");
+      require(std::filesystem::is_regular_file(f.rgb) && std::filesystem::is_regular_file(f.depth), "files exist");
+      require(!f.world_T_camera || isRigid(*f.world_T_camera), "a frame's pose is a rigid motion");
+    }
+  } catch (const risas::InputError&) {
+  }
+  if (!std::filesystem::exists(gt)) return;
+  try {
+    for (const risas::StampedPose& p : risas::readTumTrajectory(gt.string())) {
+      require(std::isfinite(p.stamp) && isRigid(p.world_T_camera), "a trajectory's pose is a rigid motion");
+    }
+  } catch (const risas::InputError&) {
+  }
+}
+
 void fuzzParams(Bytes& in) {
   const std::string text = "%YAML:1.0\n" + in.rest();
   cv::FileStorage fs;
@@ -350,9 +460,10 @@ void fuzzParams(Bytes& in) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Bytes in(data, size);
   try {
-    switch (in.byte() % 3) {
+    switch (in.byte() % 4) {
       case 0: fuzzFrame(in); break;
       case 1: fuzzMatchingAndMotion(in); break;
+      case 2: fuzzTumFolder(in); break;
       default: fuzzParams(in); break;
     }
   } catch (const risas::InputError&) {
