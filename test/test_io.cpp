@@ -243,5 +243,74 @@ TEST(FeaturesFile, CorruptOrForeignFilesAreErrors) {
   EXPECT_THROW(writeFeatures("/nonexistent-dir/x.yml", Features{}), InputError);
 }
 
+// A features file's geometry in another depth than CV_32F (written by
+// another program, or edited) is read as its numbers say; one of several
+// channels is refused. Read element by element as floats, an 8-bit matrix
+// once overran its rows (ASan: heap-buffer-overflow).
+TEST(FeaturesFile, GeometryOfAnotherDepthIsConvertedAndSeveralChannelsRefused) {
+  const TempDir dir;
+  const auto file = [&](const char* depth, const char* radius_depth) {
+    const std::string matrix = "!!opencv-matrix\n   rows: 2\n   cols: ";
+    return std::string("%YAML:1.0\nkeypoints:\n   - [ 10., 20., 30., 0., 1., 0, -1 ]\n") +
+           "   - [ 11., 21., 30., 0., 1., 0, -1 ]\n" +
+           "descriptors: " + matrix + "2\n   dt: f\n   data: [ 0.5, 0.5, 0.25, 0.75 ]\n" +
+           "points3d: " + matrix + "3\n   dt: " + depth + "\n   data: [ 1, 2, 3, 4, 5, 6 ]\n" +
+           "normals: " + matrix + "3\n   dt: " + depth + "\n   data: [ 0, 0, 1, 0, 1, 0 ]\n" +
+           "support_radius: " + matrix + "1\n   dt: " + radius_depth + "\n   data: [ 7, 8 ]\n";
+  };
+  for (const char* depth : {"u", "d", "i"}) {
+    SCOPED_TRACE(depth);
+    const Features f = readFeatures(dir.write("geometry.yml", file(depth, depth)));
+    ASSERT_EQ(f.geometry.size(), 2u);
+    EXPECT_EQ(f.geometry[1].point, cv::Point3f(4, 5, 6));
+    EXPECT_EQ(f.geometry[1].normal, cv::Vec3f(0, 1, 0));
+    EXPECT_EQ(f.geometry[1].support_radius, 8.0f);
+  }
+  const std::string two_channels = std::string("%YAML:1.0\nkeypoints:\n   - [ 10., 20., 30., 0., 1., 0, -1 ]\n") +
+                                   "descriptors: !!opencv-matrix\n   rows: 1\n   cols: 1\n   dt: f\n   data: [ 1 ]\n" +
+                                   "points3d: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: \"2f\"\n" +
+                                   "   data: [ 1, 2, 3, 4, 5, 6 ]\n";
+  try {
+    readFeatures(dir.write("channels.yml", two_channels));
+    ADD_FAILURE() << "a two-channel points3d was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("points3d has 2 channels, not 1"), std::string::npos) << e.what();
+  }
+  // A count that its data does not hold is refused before OpenCV would
+  // allocate it (the fuzz loop's find: 40 GB under ASan).
+  const std::string huge = std::string("%YAML:1.0\nkeypoints:\n   - [ 10., 20., 30., 0., 1., 0, -1 ]\n") +
+                           "descriptors: !!opencv-matrix\n   rows: 1000000000\n   cols: 10\n   dt: f\n" +
+                           "   data: [ 1, 2 ]\n";
+  try {
+    readFeatures(dir.write("huge.yml", huge));
+    ADD_FAILURE() << "a matrix of 10^10 elements with 2 numbers was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("descriptors says 1000000000 x 10 of 'f' but holds 2 numbers"),
+              std::string::npos) << e.what();
+  }
+  // A rows that is no number reads in OpenCV as 2^31 - 1 (the fuzz loop's
+  // find: 43 GB under ASan).
+  std::string not_a_number = huge;
+  not_a_number.replace(not_a_number.find("1000000000"), 10, "u1");
+  try {
+    readFeatures(dir.write("rows.yml", not_a_number));
+    ADD_FAILURE() << "a matrix whose rows is 'u1' was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("descriptors is not a matrix of rows, cols, dt and data"), std::string::npos)
+        << e.what();
+  }
+  // A matrix node with a key that begins with ':' (the fuzz loop's find,
+  // reduced): OpenCV's parser throws std::length_error there, which comes
+  // out an InputError.
+  const std::string colon_key = std::string("%YAML:1.0\nkeypoints:\n   - [ 2.5, 13., 10., -1., 0., 0, -1 ]\n") +
+                                "descriptors: !!opencv-matrix\n   data: [ 0.5 ]\n   :ata: [ X ]\n";
+  try {
+    readFeatures(dir.write("colon.yml", colon_key));
+    ADD_FAILURE() << "a matrix with a ':' key was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot parse features file"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace risas

@@ -67,7 +67,9 @@ RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_
 // keypoints (cv::write of the std::vector<cv::KeyPoint>, 0-based pixels),
 // descriptors (N x D CV_32F), points3d and normals (N x 3 CV_32F, metres /
 // unit), support_radius (N x 1). readFeatures: InputError when a
-// descriptor_layout does not give the descriptors' width.
+// descriptor_layout does not give the descriptors' width, or the geometry's
+// matrices do not match the keypoints or have several channels; their
+// numbers of another depth (doubles, integers) are read as CV_32F.
 // .yml, .yaml, .xml or .json, by the extension, as cv::FileStorage does.
 void writeFeatures(const std::string& path, const Features& features);
 Features readFeatures(const std::string& path);

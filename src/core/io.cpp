@@ -7,9 +7,11 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <fstream>
@@ -82,6 +84,60 @@ int64_t layoutDimension(const std::string& layout) {
       std::sscanf(layout.c_str(), "n_ring=%4d n_pie=%4d n_bin=%4d n_vec=%4d%n", &ring, &pie, &bin, &vec, &end);
   if (read != 4 || end != static_cast<int>(layout.size()) || ring < 1 || pie < 1 || bin < 1 || vec < 0) return -1;
   return int64_t{ring} * pie * bin * (vec + 1);
+}
+
+// How many numbers an element of a FileStorage dt holds: "f" 1, "3f" 3,
+// "2if" 3; -1 when it is no dt.
+int64_t numbersPerElement(const std::string& dt) {
+  int64_t total = 0;
+  for (size_t i = 0; i < dt.size();) {
+    int64_t count = 1;
+    if (std::isdigit(static_cast<unsigned char>(dt[i]))) {
+      count = 0;
+      for (; i < dt.size() && std::isdigit(static_cast<unsigned char>(dt[i])) && count < 1000; ++i) {
+        count = count * 10 + (dt[i] - '0');
+      }
+    }
+    if (i == dt.size() || !std::strchr("ucwsifdhr", dt[i])) return -1;
+    total += count, ++i;
+  }
+  return dt.empty() ? -1 : total;
+}
+
+// A features file's matrix node (empty when absent), read only when it has
+// whole-number rows and cols, a dt and data, and they agree with the
+// numbers its data holds: OpenCV allocates what rows and cols say before it
+// reads the data (a rows of "u1" reads as 2^31 - 1), and a corrupt count
+// would ask for gigabytes.
+cv::Mat matrixNode(const cv::FileNode& node, const std::string& path, const char* name) {
+  cv::Mat m;
+  if (node.empty()) return m;
+  const cv::FileNode rows = node["rows"], cols = node["cols"], dt = node["dt"], data = node["data"];
+  if (!node.isMap() || !rows.isInt() || !cols.isInt() || !dt.isString() || !data.isSeq()) {
+    throw InputError("features file " + path + ": " + name + " is not a matrix of rows, cols, dt and data");
+  }
+  const int64_t r = static_cast<int>(rows), c = static_cast<int>(cols), per = numbersPerElement(dt.string());
+  const int64_t held = static_cast<int64_t>(data.size());
+  if (r < 0 || c < 0 || per < 0 || r * c * per != held) {
+    throw InputError("features file " + path + ": " + name + " says " + std::to_string(r) + " x " + std::to_string(c) +
+                     " of '" + dt.string() + "' but holds " + std::to_string(held) + " numbers");
+  }
+  node >> m;
+  return m;
+}
+
+// A features file's matrix node as CV_32F, read element by element after:
+// a file's numbers of another depth (doubles, integers) are converted, as
+// written; several channels are not this file's layout. Empty when absent.
+cv::Mat floatMatrix(const cv::FileNode& node, const std::string& path, const char* name) {
+  cv::Mat m = matrixNode(node, path, name);
+  if (m.empty()) return m;
+  if (m.channels() != 1) {
+    throw InputError("features file " + path + ": " + name + " has " + std::to_string(m.channels()) +
+                     " channels, not 1");
+  }
+  m.convertTo(m, CV_32F);
+  return m;
 }
 
 }  // namespace
@@ -217,11 +273,10 @@ Features readFeatures(const std::string& path) {
       throw InputError("features file " + path + " has no keypoints or descriptors node");
     }
     cv::read(fs["keypoints"], features.keypoints);
-    fs["descriptors"] >> features.descriptors;
-    cv::Mat points, normals, radius;
-    fs["points3d"] >> points;
-    fs["normals"] >> normals;
-    fs["support_radius"] >> radius;
+    features.descriptors = matrixNode(fs["descriptors"], path, "descriptors");
+    const cv::Mat points = floatMatrix(fs["points3d"], path, "points3d");
+    const cv::Mat normals = floatMatrix(fs["normals"], path, "normals");
+    const cv::Mat radius = floatMatrix(fs["support_radius"], path, "support_radius");
     const int n = static_cast<int>(features.keypoints.size());
     if (features.descriptors.rows != n || (n > 0 && features.descriptors.type() != CV_32F)) {
       throw InputError("features file " + path + ": descriptors are not " + std::to_string(n) + " CV_32F rows");
@@ -235,7 +290,8 @@ Features readFeatures(const std::string& path) {
       }
     }
     if (!points.empty()) {
-      if (points.rows != n || points.cols != 3 || normals.rows != n || normals.cols != 3 || radius.rows != n) {
+      if (points.rows != n || points.cols != 3 || normals.rows != n || normals.cols != 3 || radius.rows != n ||
+          radius.cols != 1) {
         throw InputError("features file " + path + ": points3d/normals/support_radius do not match the keypoints");
       }
       for (int i = 0; i < n; ++i) {
@@ -244,8 +300,14 @@ Features readFeatures(const std::string& path) {
                                      radius.at<float>(i, 0)});
       }
     }
+  } catch (const InputError&) {
+    throw;
   } catch (const cv::Exception& e) {
     throw InputError("cannot parse features file " + path + ": " + e.msg);
+  } catch (const std::exception& e) {
+    // OpenCV's parser lets a standard exception out on some corrupt nodes
+    // (std::length_error on a matrix node with a key that begins with ':').
+    throw InputError("cannot parse features file " + path + ": " + e.what());
   }
   return features;
 }

@@ -1,8 +1,8 @@
 // Fuzz driver for the core's entry points: RgbdFrame, Risas::extract /
 // detect / compute, matchDescriptors, estimateRigidMotion and RisasParams
-// read from text, a twist from a motion found, and a TUM RGB-D folder's
-// lists and trajectory (readTumSequence, readTumTrajectory). One input
-// drives one case of each.
+// read from text, a twist from a motion found, a TUM RGB-D folder's lists
+// and trajectory (readTumSequence, readTumTrajectory), and a features file
+// (readFeatures). One input drives one case of each.
 //
 // Invariants it holds the core to (a breach aborts, and so does any
 // sanitizer report):
@@ -17,12 +17,15 @@
 //     match and counts num_inliers, its transform is finite;
 //   - a TUM folder read gives frames in ascending colour stamps, each of an
 //     existing colour and depth file and a depth stamp within the
-//     tolerance, and poses that are finite rotations and translations.
+//     tolerance, and poses that are finite rotations and translations;
+//   - a features file read has one CV_32F descriptor row per keypoint and
+//     geometry for none or for each.
 //
 // Built two ways (test/fuzz/CMakeLists.txt): with clang and -fsanitize=fuzzer
 // as a libFuzzer target, and everywhere as `risas_fuzz_loop`, a seeded,
 // time-bounded loop over random inputs (fuzz_loop_main.cpp).
 #include "risas/errors.hpp"
+#include "risas/io.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
 #include "risas/odometry.hpp"
@@ -41,6 +44,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -335,17 +339,18 @@ void fuzzMatchingAndMotion(Bytes& in) {
   }
 }
 
-// A folder of its own for the TUM case, made once and removed at exit, with
-// one colour and one depth image (empty: the reader only checks they exist).
-class TumFolder {
+// A folder of the process's own for the file cases, made once and removed at
+// exit, with one colour and one depth image (empty: the TUM reader only
+// checks that they exist).
+class FuzzFolder {
  public:
-  TumFolder() : path_(std::filesystem::temp_directory_path() / ("risas_fuzz_tum_" + std::to_string(::getpid()))) {
+  FuzzFolder() : path_(std::filesystem::temp_directory_path() / ("risas_fuzz_" + std::to_string(::getpid()))) {
     std::filesystem::create_directories(path_ / "rgb");
     std::filesystem::create_directories(path_ / "depth");
     std::ofstream(path_ / "rgb" / "a.png") << "x";
     std::ofstream(path_ / "depth" / "a.png") << "x";
   }
-  ~TumFolder() {
+  ~FuzzFolder() {
     std::error_code ignored;
     std::filesystem::remove_all(path_, ignored);
   }
@@ -404,7 +409,7 @@ std::string tumLines(Bytes& in, const std::string& image) {
 }
 
 void fuzzTumFolder(Bytes& in) {
-  static const TumFolder folder;
+  static const FuzzFolder folder;
   const std::filesystem::path& dir = folder.path();
   std::ofstream(dir / "rgb.txt") << tumLines(in, "rgb/a.png");
   std::ofstream(dir / "depth.txt") << tumLines(in, "depth/a.png");
@@ -436,6 +441,50 @@ void fuzzTumFolder(Bytes& in) {
   }
 }
 
+// A features file as writeFeatures writes it (0 to 4 keypoints, with or
+// without geometry and layout, YAML or JSON), then a few of its bytes
+// changed, often to ones its syntax gives meaning, and now and then cut
+// short: readFeatures either refuses it or gives features whose parts agree.
+void fuzzFeaturesFile(Bytes& in) {
+  static const FuzzFolder folder;
+  const int n = in.in(0, 4), width = in.in(1, 8);
+  risas::Features written;
+  written.descriptors = cv::Mat(n, width, CV_32F);
+  for (int i = 0; i < n; ++i) {
+    written.keypoints.emplace_back(static_cast<float>(in.number(0, 640)), static_cast<float>(in.number(0, 480)), 10.0f);
+    for (int j = 0; j < width; ++j) written.descriptors.at<float>(i, j) = static_cast<float>(in.number(0, 1));
+  }
+  if (in.byte() % 2) {
+    for (int i = 0; i < n; ++i) {
+      written.geometry.push_back({cv::Point3f(static_cast<float>(in.number(-1, 1)), 0.5f, 1.0f), cv::Vec3f(0, 0, -1),
+                                  static_cast<float>(in.number(0, 0.1))});
+    }
+  }
+  if (in.byte() % 2) written.descriptor_layout = "n_ring=1 n_pie=1 n_bin=1 n_vec=" + std::to_string(width - 1);
+  const std::string path = (folder.path() / (in.byte() % 4 ? "features.yml" : "features.json")).string();
+  risas::writeFeatures(path, written);
+  std::string text;
+  {
+    std::ifstream file(path);
+    text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  static const char kMeaningful[] = "0123456789-.e,:[]{}\" \nfdiu3";
+  for (int k = in.in(0, 6); k > 0 && !text.empty(); --k) {
+    const uint8_t b = in.byte();
+    text[in.word() % text.size()] = b % 4 ? kMeaningful[b % (sizeof kMeaningful - 1)] : static_cast<char>(in.byte());
+  }
+  if (in.byte() % 8 == 0) text.resize(in.word() % (text.size() + 1));
+  std::ofstream(path) << text;
+  try {
+    const risas::Features read = risas::readFeatures(path);
+    const size_t count = read.keypoints.size();
+    require(read.descriptors.rows == static_cast<int>(count), "one descriptor row per keypoint");
+    require(count == 0 || read.descriptors.type() == CV_32F, "descriptors are CV_32F");
+    require(read.geometry.empty() || read.geometry.size() == count, "geometry per keypoint");
+  } catch (const risas::InputError&) {
+  }
+}
+
 void fuzzParams(Bytes& in) {
   const std::string text = "%YAML:1.0\n" + in.rest();
   cv::FileStorage fs;
@@ -460,10 +509,11 @@ void fuzzParams(Bytes& in) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Bytes in(data, size);
   try {
-    switch (in.byte() % 4) {
+    switch (in.byte() % 5) {
       case 0: fuzzFrame(in); break;
       case 1: fuzzMatchingAndMotion(in); break;
       case 2: fuzzTumFolder(in); break;
+      case 3: fuzzFeaturesFile(in); break;
       default: fuzzParams(in); break;
     }
   } catch (const risas::InputError&) {
