@@ -282,7 +282,8 @@ TEST_F(Tools, ARecordingsFrameWithoutDepthIsNamed) {
     ASSERT_NE(at, std::string::npos) << command << ": " << r.output;
     EXPECT_TRUE(at == 0 || r.output[at - 1] == '\n') << "not a line of its own: " << r.output;
     const std::string error = r.output.substr(at);
-    EXPECT_NE(error.find(depth_file + ": depth image has no valid pixel"), std::string::npos) << command << ": " << r.output;
+    EXPECT_NE(error.find(depth_file + ": depth image has no valid pixel"), std::string::npos)
+        << command << ": " << r.output;
     EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << command << ": " << r.output;
   }
 }

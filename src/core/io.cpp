@@ -201,8 +201,8 @@ Intrinsics findIntrinsics(const std::string& dir) {
 RgbdImages readRgbdImages(const std::string& color_path, const std::string& depth_path) {
   // Depth as stored: IMREAD_ANYDEPTH alone would turn a 16-bit colour image
   // into grey and accept it.
-  RgbdImages images{readImage(color_path, cv::IMREAD_COLOR, "colour"), readImage(depth_path, cv::IMREAD_UNCHANGED, "depth"),
-                    color_path, depth_path};
+  RgbdImages images{readImage(color_path, cv::IMREAD_COLOR, "colour"),
+                    readImage(depth_path, cv::IMREAD_UNCHANGED, "depth"), color_path, depth_path};
   if (images.depth_mm.type() != CV_16UC1) {
     throw InputError("depth image " + depth_path + " must be single-channel 16-bit millimetres, got " +
                      describeType(images.depth_mm));

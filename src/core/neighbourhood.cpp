@@ -146,7 +146,9 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
         }
       }
       int u = u_begin;
-      for (; u + 4 <= u_end; u += 4) accumulate(with_centroid, depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
+      for (; u + 4 <= u_end; u += 4) {
+        accumulate(with_centroid, depth + u, x_factor + u, y_factor, gray, u, dv, all_lanes);
+      }
       if (u == u_end) continue;
       // The last pixels: the four from u with the lanes past the disc masked
       // off, read in place while they lie in the image (a copy of them cost a
