@@ -60,6 +60,13 @@ TEST(ParamsFile, PartialFileKeepsDefaultsAndBadFilesAreErrors) {
   EXPECT_THROW(RisasParams::load(dir.write("range.yml", "%YAML:1.0\ndetector:\n  tau: 2.0\n")), std::invalid_argument);
   EXPECT_THROW(RisasParams::load(dir.write("text.yml", "%YAML:1.0\ndetector:\n  tau: high\n")), std::invalid_argument);
   EXPECT_THROW(RisasParams::load(dir.write("corrupt.yml", "%YAML:1.0\ndetector: [1, {\n")), std::runtime_error);
+  // A key that begins with ':' makes OpenCV's parser throw std::length_error.
+  try {
+    RisasParams::load(dir.write("colon.yml", "%YAML:1.0\ndetector:\n   data: [ 0.5 ]\n   :ata: [ X ]\n"));
+    ADD_FAILURE() << "a parameter file with a ':' key was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot parse parameter file"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(RisasParams::load(dir.file("missing.yml")), std::runtime_error);
 }
 

@@ -307,7 +307,7 @@ Features readFeatures(const std::string& path) {
   } catch (const std::exception& e) {
     // OpenCV's parser lets a standard exception out on some corrupt nodes
     // (std::length_error on a matrix node with a key that begins with ':').
-    throw InputError("cannot parse features file " + path + ": " + e.what());
+    throw InputError("cannot parse features file " + path + ": OpenCV's parser failed (" + e.what() + ")");
   }
   return features;
 }

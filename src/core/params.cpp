@@ -214,6 +214,12 @@ RisasParams RisasParams::load(const std::string& path) {
     throw std::runtime_error("cannot parse parameter file " + path + ": " + parserReason(e));
   } catch (const InputError& e) {
     throw InputError("parameter file " + path + ": " + e.what());
+  } catch (const std::runtime_error&) {
+    throw;  // cannot open
+  } catch (const std::exception& e) {
+    // OpenCV's parser lets a standard exception out on some corrupt files
+    // (std::length_error on a key that begins with ':').
+    throw std::runtime_error("cannot parse parameter file " + path + ": OpenCV's parser failed (" + e.what() + ")");
   }
   params.validate();
   return params;

@@ -490,8 +490,8 @@ void fuzzParams(Bytes& in) {
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception&) {
-    return;  // not FileStorage text at all: OpenCV's parser says so
+  } catch (const std::exception&) {
+    return;  // not FileStorage text: OpenCV's parser says so (now and then by std::length_error)
   }
   if (!fs.isOpened()) return;
   risas::RisasParams p;
