@@ -215,6 +215,8 @@ TEST(FeaturesFile, RoundTripsInYamlAndJson) {
       EXPECT_EQ(g.geometry[i].normal, f.geometry[i].normal);
       EXPECT_FLOAT_EQ(g.geometry[i].support_radius, f.geometry[i].support_radius);
     }
+    writeFeatures(dir.file(name), Features{});  // a frame without keypoints
+    EXPECT_TRUE(readFeatures(dir.file(name)).keypoints.empty()) << name;
   }
 }
 

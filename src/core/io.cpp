@@ -108,16 +108,16 @@ int64_t numbersPerElement(const std::string& dt) {
 // whole-number rows and cols, a dt and data, and they agree with the
 // numbers its data holds: OpenCV allocates what rows and cols say before it
 // reads the data (a rows of "u1" reads as 2^31 - 1), and a corrupt count
-// would ask for gigabytes.
+// would ask for gigabytes. An empty matrix's data is no sequence in XML.
 cv::Mat matrixNode(const cv::FileNode& node, const std::string& path, const char* name) {
   cv::Mat m;
   if (node.empty()) return m;
   const cv::FileNode rows = node["rows"], cols = node["cols"], dt = node["dt"], data = node["data"];
-  if (!node.isMap() || !rows.isInt() || !cols.isInt() || !dt.isString() || !data.isSeq()) {
+  if (!node.isMap() || !rows.isInt() || !cols.isInt() || !dt.isString() || !(data.isSeq() || data.isNone())) {
     throw InputError("features file " + path + ": " + name + " is not a matrix of rows, cols, dt and data");
   }
   const int64_t r = static_cast<int>(rows), c = static_cast<int>(cols), per = numbersPerElement(dt.string());
-  const int64_t held = static_cast<int64_t>(data.size());
+  const int64_t held = data.isSeq() ? static_cast<int64_t>(data.size()) : 0;
   if (r < 0 || c < 0 || per < 0 || r * c * per != held) {
     throw InputError("features file " + path + ": " + name + " says " + std::to_string(r) + " x " + std::to_string(c) +
                      " of '" + dt.string() + "' but holds " + std::to_string(held) + " numbers");
