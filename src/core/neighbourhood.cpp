@@ -104,9 +104,8 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
     sx += x, sy += y, sz += dz;
     sxx += x * x, sxy += x * y, sxz += x * dz, syy += y * y, syz += y * dz, szz += dz * dz;
     const int lanes = cv::v_signmask(kept);
-    if constexpr (!decltype(with_centroid)::value) {
-      nb.kept += kLanesSet[lanes];
-    } else {
+    nb.kept += kLanesSet[lanes];
+    if constexpr (decltype(with_centroid)::value) {
       for (int i = 0; i < 4; ++i) {
         if (!(lanes >> i & 1)) continue;
         const uchar g = gray[u + i];
@@ -170,7 +169,6 @@ std::optional<Neighbourhood> selectNeighbourhood(const RgbdFrame& frame, const F
   } else {
     sumDisc(std::false_type{});
   }
-  for (int g = 0; g < 256; ++g) nb.kept += count[g];  // with the centroid; else counted as summed
   if (nb.kept < 3) return std::nullopt;
   const double inv = 1.0 / nb.kept;
   const auto sum = [](const v_float32x4& lanes) -> double { return cv::v_reduce_sum(lanes); };
