@@ -133,6 +133,50 @@ TEST(IntrinsicsFile, ReadsTheDatasetFormatAndRejectsOthers) {
   EXPECT_THROW(readIntrinsicsFile(dir.file("missing.txt")), InputError);
 }
 
+// The dataset's R1-k.txt and T1-k.txt: a rigid motion, or a one-line error
+// naming the file; never a matrix that is not a rotation, nor numbers taken
+// from a file that holds more or other text.
+TEST(PoseFiles, ReadTheDatasetsRigidMotionAndRefuseWhatIsNot) {
+  const TempDir dir;
+  // geometry/rotate's corrected R1-5.txt and T1-5.txt.
+  const std::string R = dir.write("R.txt",
+                                  "-0.710281445 0.703483841 -0.023955241\n"
+                                  "-0.661060636 -0.678474334 -0.320514093\n"
+                                  "-0.241727270 -0.211737680 0.946955779\n");
+  const std::string t = dir.write("T.txt", "-0.229027258\n0.191907103\n0.013232292");
+  const Eigen::Isometry3d T = readPoseFiles(R, t);
+  EXPECT_NEAR(T.linear()(1, 2), -0.320514093, 1e-12);
+  EXPECT_NEAR(T.translation().y(), 0.191907103, 1e-12);
+  // The raw files' five digits are a rotation within the tolerance.
+  EXPECT_NO_THROW(readPoseFiles(dir.write("R5.txt", "-0.72086 0.67907 0.13856 -0.67987 -0.65421 -0.33143 "
+                                                    "-0.13442 -0.33304 0.93327"),
+                                t));
+  const auto message = [&](const std::string& rotation, const std::string& translation) {
+    try {
+      readPoseFiles(rotation, translation);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const auto refused = [&](const std::string& rotation_text, const std::string& wanted) {
+    const std::string path = dir.write("bad_R.txt", rotation_text);
+    const std::string what = message(path, t);
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find(wanted), std::string::npos) << rotation_text << ": " << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  };
+  refused("2 0 0 0 2 0 0 0 2", "does not hold a rotation");   // a scale
+  refused("1 0 0 0 1 0 0 0 -1", "does not hold a rotation");  // a reflection
+  refused("1 0 0 0 1 0 0 0 1 0", "found 10");                 // a number too many
+  refused("1 0 0 0 1 0 0 0", "found 8");
+  refused("1 0 0 0 1 0 0 0 1x", "'1x' is not a finite number");
+  refused("1 0 0 0 nan 0 0 0 1", "'nan' is not a finite number");
+  refused("1 0 0 0 1e999 0 0 0 1", "'1e999' is not a finite number");
+  EXPECT_NE(message(R, dir.write("bad_T.txt", "0.1 0.2")).find("found 2"), std::string::npos);
+  EXPECT_NE(message(dir.file("missing.txt"), t).find("cannot open"), std::string::npos);
+}
+
 TEST(SequenceFiles, ListsFramesUpToTheFirstGapAndFindsIntrinsicsAbove) {
   const TempDir dir;
   fs::create_directories(dir.path / "seq");

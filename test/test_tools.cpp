@@ -68,9 +68,10 @@ class Tools : public ::testing::Test {
       cv::imwrite((tum / "depth" / name).string(), depth);
       rgb_list << k << ".0 rgb/" << name << "\n";
       depth_list << k << ".001 depth/" << name << "\n";
-      const Eigen::Matrix3d R = readMatrixFile(file("R1-" + std::to_string(k) + ".txt"), 3, 3);
-      const Eigen::Vector3d t = readMatrixFile(file("T1-" + std::to_string(k) + ".txt"), 3, 1);
-      const Eigen::Quaterniond q(R);
+      const Eigen::Isometry3d pose =
+          readPoseFiles(file("R1-" + std::to_string(k) + ".txt"), file("T1-" + std::to_string(k) + ".txt"));
+      const Eigen::Vector3d t = pose.translation();
+      const Eigen::Quaterniond q(pose.linear());
       truth << k << ".0 " << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z()
             << " " << q.w() << "\n";
     }
@@ -309,6 +310,17 @@ TEST_F(Tools, WrongUsageAndBadInputFailClearly) {
   EXPECT_NE(r.output.find("cannot write /nonexistent-folder/h.yml: no folder"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("keypoints"), std::string::npos) << "extracted first: " << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  // A ground truth that is not a rigid motion is found before the matching,
+  // in one line naming its file.
+  const std::string scaled = file("scaled_R.txt");
+  std::ofstream(scaled) << "2 0 0\n0 2 0\n0 0 2\n";
+  r = run("risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + " --intrinsics " + file("camera-intrinsics.txt") +
+          " --gt-rotation " + scaled + " --gt-translation " + file("T1-2.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("risas_match: error: rotation file " + scaled + " does not hold a rotation"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "matched first: " << r.output;
   r = run("risas_match --help");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--overlay"), std::string::npos);

@@ -7,6 +7,7 @@
 #include "risas/rgbd_frame.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <string>
 #include <vector>
@@ -14,8 +15,15 @@
 namespace risas {
 
 // A rows x cols matrix as numbers in text, row by row (the dataset's
-// R1-k.txt and T1-k.txt poses); InputError when unreadable or short.
+// R1-k.txt and T1-k.txt poses): InputError unless the file holds exactly
+// rows x cols finite numbers and nothing else.
 Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols);
+
+// The rigid motion p1 = R p2 + t of a rotation file (3x3) and a translation
+// file (3x1, metres), as the dataset's R1-k.txt and T1-k.txt: InputError as
+// readMatrixFile, or when R is not a rotation (R^T R off I by more than
+// 1e-3, or a reflection).
+Eigen::Isometry3d readPoseFiles(const std::string& rotation_path, const std::string& translation_path);
 
 // A 3x3 camera matrix as nine numbers in text, row by row (the
 // ManipulatorsDataset's camera-intrinsics.txt).

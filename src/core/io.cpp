@@ -140,31 +140,55 @@ cv::Mat floatMatrix(const cv::FileNode& node, const std::string& path, const cha
   return m;
 }
 
-}  // namespace
-
-Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
+// Every whitespace-separated token of a text file as a finite number:
+// InputError naming the file (as `what`) and the first token that is not one.
+std::vector<double> numbersInFile(const std::string& path, const char* what) {
   std::ifstream in(path);
-  if (!in) throw InputError("cannot open " + path);
-  Eigen::MatrixXd m(rows, cols);
-  for (int i = 0; i < rows * cols; ++i) {
-    if (!(in >> m(i / cols, i % cols))) {
-      throw InputError(path + " is not a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix of numbers");
-    }
-  }
-  return m;
-}
-
-Intrinsics readIntrinsicsFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open intrinsics file " + path);
+  if (!in) throw InputError(std::string("cannot open ") + what + " " + path);
   std::vector<double> values;
   std::string token;
   while (in >> token) {
     std::istringstream number(token);
     double v = 0.0;
-    if (!(number >> v) || !number.eof()) throw InputError("intrinsics file " + path + ": '" + token + "' is not a number");
+    if (!(number >> v) || !number.eof() || !std::isfinite(v)) {
+      throw InputError(std::string(what) + " " + path + ": '" + token + "' is not a finite number");
+    }
     values.push_back(v);
   }
+  return values;
+}
+
+}  // namespace
+
+Eigen::MatrixXd readMatrixFile(const std::string& path, int rows, int cols) {
+  const std::vector<double> values = numbersInFile(path, "matrix file");
+  if (values.size() != static_cast<size_t>(rows) * static_cast<size_t>(cols)) {
+    throw InputError("matrix file " + path + " must hold a " + std::to_string(rows) + "x" + std::to_string(cols) +
+                     " matrix (" + std::to_string(rows * cols) + " numbers), found " + std::to_string(values.size()));
+  }
+  Eigen::MatrixXd m(rows, cols);
+  for (int i = 0; i < rows * cols; ++i) m(i / cols, i % cols) = values[static_cast<size_t>(i)];
+  return m;
+}
+
+Eigen::Isometry3d readPoseFiles(const std::string& rotation_path, const std::string& translation_path) {
+  const Eigen::Matrix3d R = readMatrixFile(rotation_path, 3, 3);
+  // The dataset writes five to nine digits: R^T R is I within 1e-5 there.
+  constexpr double kTolerance = 1e-3;
+  const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!(off <= kTolerance) || !(R.determinant() > 0.0)) {
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "R^T R differs from I by %.3g, det R = %.3g", off, R.determinant());
+    throw InputError("rotation file " + rotation_path + " does not hold a rotation (" + detail + ")");
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = readMatrixFile(translation_path, 3, 1);
+  return T;
+}
+
+Intrinsics readIntrinsicsFile(const std::string& path) {
+  const std::vector<double> values = numbersInFile(path, "intrinsics file");
   if (values.size() != 9) {
     throw InputError("intrinsics file " + path + " must hold a 3x3 matrix (9 numbers), found " +
                      std::to_string(values.size()));

@@ -17,10 +17,8 @@ namespace {
 // p1 = R pk + t of frame k, from corrected/ if the sequence has it.
 Eigen::Isometry3d readPose(const fs::path& dir, int k) {
   const fs::path poses = fs::exists(dir / "corrected") ? dir / "corrected" : dir;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = readMatrixFile((poses / ("R1-" + std::to_string(k) + ".txt")).string(), 3, 3);
-  T.translation() = readMatrixFile((poses / ("T1-" + std::to_string(k) + ".txt")).string(), 3, 1);
-  return T;
+  return readPoseFiles((poses / ("R1-" + std::to_string(k) + ".txt")).string(),
+                       (poses / ("T1-" + std::to_string(k) + ".txt")).string());
 }
 
 FramePaths frame(const fs::path& dir, const std::string& rgb_name, const std::string& depth_name) {

@@ -14,6 +14,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace {
@@ -59,6 +60,11 @@ int main(int argc, char** argv) {
     if (args.has("overlay")) risas::cli::requireWritable(args.get("overlay"));
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const double depth_units = risas::cli::depthUnitsFrom(args);
+    // The ground truth read before the work, so that a bad file stops it.
+    std::optional<Eigen::Isometry3d> gt;
+    if (args.has("gt-rotation") || args.has("gt-translation")) {
+      gt = risas::readPoseFiles(args.get("gt-rotation"), args.get("gt-translation"));
+    }
     const risas::RgbdFrame frame1 = risas::loadRgbdFrame(args.get("rgb1"), args.get("depth1"), K, depth_units);
     const risas::RgbdFrame frame2 = risas::loadRgbdFrame(args.get("rgb2"), args.get("depth2"), K, depth_units);
 
@@ -79,23 +85,20 @@ int main(int argc, char** argv) {
       std::cout << "motion: not found (fewer than " << params.motion.min_inliers << " consistent matches)\n";
     }
 
-    if (args.has("gt-rotation") || args.has("gt-translation")) {
-      Eigen::Isometry3d gt = Eigen::Isometry3d::Identity();
-      gt.linear() = risas::readMatrixFile(args.get("gt-rotation"), 3, 3);
-      gt.translation() = risas::readMatrixFile(args.get("gt-translation"), 3, 1);
+    if (gt) {
       const auto p1 = f1.points(), p2 = f2.points();
       int correct = 0, correct_inliers = 0;
       for (size_t i = 0; i < matches.size(); ++i) {
         const cv::Point3f& a = p1[static_cast<size_t>(matches[i].trainIdx)];
         const cv::Point3f& b = p2[static_cast<size_t>(matches[i].queryIdx)];
-        const bool ok = (Eigen::Vector3d(a.x, a.y, a.z) - gt * Eigen::Vector3d(b.x, b.y, b.z)).norm() <= 0.05;
+        const bool ok = (Eigen::Vector3d(a.x, a.y, a.z) - *gt * Eigen::Vector3d(b.x, b.y, b.z)).norm() <= 0.05;
         correct += ok;
         correct_inliers += ok && motion.inliers[i];
       }
       std::cout << "ground truth: " << correct << " of " << matches.size() << " matches correct (<= 5 cm), "
                 << correct_inliers << " of " << motion.num_inliers << " inliers correct\n";
       if (motion.valid) {
-        std::cout << "motion error: " << describeMotion(gt.inverse() * motion.train_T_query) << "\n";
+        std::cout << "motion error: " << describeMotion(gt->inverse() * motion.train_T_query) << "\n";
       }
     }
 

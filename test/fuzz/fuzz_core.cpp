@@ -485,6 +485,52 @@ void fuzzFeaturesFile(Bytes& in) {
   }
 }
 
+// The dataset's text files: R1-k.txt (a rotation about a random axis, now
+// and then scaled or skewed), T1-k.txt and camera-intrinsics.txt, their
+// numbers through numberText, now and then one too few or too many:
+// readPoseFiles gives a rigid motion and readIntrinsicsFile a usable camera,
+// or each refuses its file.
+void fuzzDatasetTextFiles(Bytes& in) {
+  static const FuzzFolder folder;
+  const auto numbers = [&](const std::vector<double>& ordinary) {
+    std::string text;
+    const int count = static_cast<int>(ordinary.size()) + (in.byte() % 16 == 0 ? in.in(-2, 2) : 0);
+    for (int i = 0; i < count; ++i) {
+      text += numberText(in, ordinary[static_cast<size_t>(i) % ordinary.size()]) + (i % 3 == 2 ? "\n" : " ");
+    }
+    return text;
+  };
+  Eigen::Vector3d axis = Eigen::Vector3d::Constant(1e-3);
+  for (int k = 0; k < 3; ++k) axis(k) += in.number(-1, 1);  // one at a time: arguments' order is unspecified
+  const double angle = in.number(-4, 4);
+  Eigen::Matrix3d R = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  if (in.byte() % 8 == 0) {  // near or beyond the tolerance
+    const int row = in.in(0, 2), col = in.in(0, 2);
+    R(row, col) += in.number(-0.01, 0.01);
+  }
+  const std::filesystem::path rotation = folder.path() / "R1-2.txt", translation = folder.path() / "T1-2.txt",
+                              intrinsics = folder.path() / "camera-intrinsics.txt";
+  std::ofstream(rotation) << numbers({R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)});
+  std::ofstream(translation) << numbers({in.number(-2, 2), in.number(-2, 2), in.number(-2, 2)});
+  std::ofstream(intrinsics) << numbers({in.number(-10, 900), 0, in.number(-10, 700), 0, in.number(-10, 900),
+                                        in.number(-10, 500), 0, 0, 1});
+  try {
+    const Eigen::Isometry3d T = risas::readPoseFiles(rotation.string(), translation.string());
+    const Eigen::Matrix3d read = T.linear();
+    require(T.matrix().allFinite() && (read.transpose() * read - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3 &&
+                read.determinant() > 0.0,
+            "a pose file's motion is rigid");
+  } catch (const risas::InputError&) {
+  }
+  try {
+    const risas::Intrinsics K = risas::readIntrinsicsFile(intrinsics.string());
+    require(K.fx > 0.0 && K.fy > 0.0 && std::isfinite(K.fx) && std::isfinite(K.fy) && std::isfinite(K.cx) &&
+                std::isfinite(K.cy),
+            "an intrinsics file's camera has finite, positive focal lengths");
+  } catch (const risas::InputError&) {
+  }
+}
+
 void fuzzParams(Bytes& in) {
   const std::string text = "%YAML:1.0\n" + in.rest();
   cv::FileStorage fs;
@@ -509,11 +555,12 @@ void fuzzParams(Bytes& in) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Bytes in(data, size);
   try {
-    switch (in.byte() % 5) {
+    switch (in.byte() % 6) {
       case 0: fuzzFrame(in); break;
       case 1: fuzzMatchingAndMotion(in); break;
       case 2: fuzzTumFolder(in); break;
       case 3: fuzzFeaturesFile(in); break;
+      case 4: fuzzDatasetTextFiles(in); break;
       default: fuzzParams(in); break;
     }
   } catch (const risas::InputError&) {
