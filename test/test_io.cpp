@@ -70,6 +70,33 @@ TEST(ParamsFile, PartialFileKeepsDefaultsAndBadFilesAreErrors) {
   EXPECT_THROW(RisasParams::load(dir.file("missing.yml")), std::runtime_error);
 }
 
+// A YAML parameter file needs no "%YAML" line (OpenCV 4.6 needs one; rosparam,
+// PyYAML and later OpenCV do not); a parse error names the file's own line.
+TEST(ParamsFile, YamlWithoutItsDirectiveIsRead) {
+  const TempDir dir;
+  EXPECT_EQ(RisasParams::load(dir.write("plain.yml", "descriptor:\n  n_bin: 16\n")).descriptor.n_bin, 16);
+  EXPECT_DOUBLE_EQ(RisasParams::load(dir.write("comment.yaml", "# mine\nmatch: {ratio: 0.9}\n")).match.ratio, 0.9);
+  EXPECT_DOUBLE_EQ(RisasParams::load(dir.write("bom.yml", "\xEF\xBB\xBFmatch:\n  ratio: 0.7\n")).match.ratio, 0.7);
+  EXPECT_DOUBLE_EQ(RisasParams::load(dir.write("p.json", "{\"match\": {\"ratio\": 0.6}}")).match.ratio, 0.6);
+  EXPECT_DOUBLE_EQ(RisasParams::load(dir.write("empty.yml", "")).match.ratio, RisasParams().match.ratio);
+  const auto error = [](const std::string& path) {
+    try {
+      RisasParams::load(path);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string broken = "match:\n   ratio 0.9\n  bad: [\n";  // line 3 is out of line
+  const std::string plain = dir.write("broken.yml", broken), headed = dir.write("broken_headed.yml", "%YAML:1.0\n" + broken);
+  EXPECT_NE(error(plain).find(plain + "(3): Incorrect indentation"), std::string::npos) << error(plain);
+  EXPECT_NE(error(headed).find(headed + "(4): Incorrect indentation"), std::string::npos) << error(headed);
+  EXPECT_EQ(error(dir.path.string()), "cannot open parameter file " + dir.path.string());
+  // Fields that contradict each other are named with the file too.
+  const std::string crossed = dir.write("crossed.yml", "descriptor:\n  min_radius_px: 30\n  max_radius_px: 20\n");
+  EXPECT_EQ(error(crossed), "parameter file " + crossed + ": descriptor.min_radius_px exceeds descriptor.max_radius_px");
+}
+
 // Every field of the parameters, as a parameter file writes them.
 std::string paramsText(const RisasParams& p) {
   cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);

@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -118,6 +122,31 @@ std::string parserReason(const cv::Exception& e) {
   return m.empty() ? e.err : m;
 }
 
+// OpenCV 4.6's FileStorage reads YAML only after a "%YAML" line; rosparam,
+// PyYAML and later OpenCV read it without one. The text of a parameter file
+// that begins with none of FileStorage's signatures ("%YAML", '{' of JSON,
+// '<' of XML, after a UTF-8 byte order mark) gets that line put in front.
+// Returns whether it did.
+bool withYamlDirective(std::string& text) {
+  const size_t start = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  if (text.compare(start, 5, "%YAML") == 0 || text.compare(start, 1, "{") == 0 || text.compare(start, 1, "<") == 0) {
+    return false;
+  }
+  text.insert(start, "%YAML:1.0\n");
+  return true;
+}
+
+// A parser reason of text read from memory, "(N): reason", as the file's:
+// "path(N - added_lines): reason".
+std::string reasonInFile(const std::string& reason, const std::string& path, int added_lines) {
+  int line = 0;
+  char rest = 0;
+  if (std::sscanf(reason.c_str(), "(%d%c", &line, &rest) == 2 && rest == ')') {
+    return path + "(" + std::to_string(line - added_lines) + reason.substr(reason.find(')'));
+  }
+  return reason;
+}
+
 template <class P>
 void validateFields(const P& params, const char* section) {
   P copy = params;
@@ -206,12 +235,21 @@ void RisasParams::read(const cv::FileNode& root) {
 
 RisasParams RisasParams::load(const std::string& path) {
   RisasParams params;
+  int added_lines = 0;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) throw std::runtime_error("cannot open parameter file " + path);
+    std::error_code no_status;  // is_directory false: open decides
+    std::ifstream file(path, std::ios::binary);
+    if (!file || std::filesystem::is_directory(path, no_status)) {
+      throw std::runtime_error("cannot open parameter file " + path);
+    }
+    std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    added_lines = withYamlDirective(text) ? 1 : 0;
+    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
     params.read(fs.root());
+    params.validate();  // the fields' bounds on each other, which read cannot see one at a time
   } catch (const cv::Exception& e) {
-    throw std::runtime_error("cannot parse parameter file " + path + ": " + parserReason(e));
+    throw std::runtime_error("cannot parse parameter file " + path + ": " +
+                             reasonInFile(parserReason(e), path, added_lines));
   } catch (const InputError& e) {
     throw InputError("parameter file " + path + ": " + e.what());
   } catch (const std::runtime_error&) {
@@ -221,7 +259,6 @@ RisasParams RisasParams::load(const std::string& path) {
     // (std::length_error on a key that begins with ':').
     throw std::runtime_error("cannot parse parameter file " + path + ": OpenCV's parser failed (" + e.what() + ")");
   }
-  params.validate();
   return params;
 }
 

@@ -532,6 +532,22 @@ void fuzzDatasetTextFiles(Bytes& in) {
 }
 
 void fuzzParams(Bytes& in) {
+  if (in.byte() % 2) {  // a parameter file, with or without its "%YAML" line, through load
+    static const FuzzFolder folder;
+    const std::string path = (folder.path() / "params.yml").string();
+    std::ofstream(path, std::ios::binary) << (in.byte() % 2 ? "%YAML:1.0\n" : "") << in.rest();
+    const auto one_line_naming = [&](const std::string& what, const std::string& start) {
+      return what.rfind(start + path, 0) == 0 && what.find('\n') == std::string::npos;
+    };
+    try {
+      risas::RisasParams::load(path).validate();
+    } catch (const std::runtime_error& e) {
+      require(one_line_naming(e.what(), "cannot parse parameter file "), "a parse error is one line naming the file");
+    } catch (const std::invalid_argument& e) {
+      require(one_line_naming(e.what(), "parameter file "), "a bad field is one line naming the file");
+    }
+    return;
+  }
   const std::string text = "%YAML:1.0\n" + in.rest();
   cv::FileStorage fs;
   try {
