@@ -5,6 +5,7 @@
 #include "risas/twist.hpp"
 
 #include <image_geometry/pinhole_camera_model.h>
+#include <opencv2/core/persistence.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -285,22 +286,44 @@ void checkImageTransport(const std::string& transport, const std::string& parame
                               (installed.empty() ? "none" : installed) + ")");
 }
 
-RisasParams paramsFromServer(const ros::NodeHandle& nh) {
+RisasParams paramsFromXmlRpc(XmlRpc::XmlRpcValue& sections) {
+  // Written as FileStorage text and read by RisasParams::read, so that a
+  // file and the server share one reader and cannot disagree on a name, a
+  // type or a range.
+  cv::FileStorage text(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   RisasParams params;
-  visitSections(params, [&nh](const char* section, auto& fields) {
-    visitFields(fields, [&](const char* name, auto& value, auto...) {
-      const std::string key = std::string(section) + "/" + name;
-      using T = std::decay_t<decltype(value)>;
-      if constexpr (std::is_same_v<T, double> || std::is_same_v<T, bool>) {
-        nh.getParam(key, value);
-      } else {  // int and unsigned: the parameter server holds ints
-        int v = static_cast<int>(value);
-        if (nh.getParam(key, v)) value = static_cast<T>(v);
+  visitSections(params, [&](const char* section, auto&) {
+    if (sections.getType() != XmlRpc::XmlRpcValue::TypeStruct || !sections.hasMember(section)) return;
+    XmlRpc::XmlRpcValue& fields = sections[section];
+    if (fields.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+      throw InputError(std::string("~") + section + " must hold parameters (~" + section + "/<name>)");
+    }
+    text << section << "{";
+    for (auto& [name, value] : fields) {
+      switch (value.getType()) {
+        case XmlRpc::XmlRpcValue::TypeBoolean: text << name << (static_cast<bool>(value) ? 1 : 0); break;
+        case XmlRpc::XmlRpcValue::TypeInt: text << name << static_cast<int>(value); break;
+        case XmlRpc::XmlRpcValue::TypeDouble: text << name << static_cast<double>(value); break;
+        case XmlRpc::XmlRpcValue::TypeString: text << name << static_cast<std::string>(value); break;
+        default: text << name << "(a list or a map)"; break;  // read refuses it as not a number
       }
-    });
+    }
+    text << "}";
   });
+  const cv::FileStorage read(text.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  params.read(read.root());
   params.validate();
   return params;
+}
+
+RisasParams paramsFromServer(const ros::NodeHandle& nh) {
+  XmlRpc::XmlRpcValue sections;
+  RisasParams names;
+  visitSections(names, [&](const char* section, const auto&) {
+    XmlRpc::XmlRpcValue fields;
+    if (nh.getParam(section, fields)) sections[section] = fields;
+  });
+  return paramsFromXmlRpc(sections);
 }
 
 }  // namespace risas_ros

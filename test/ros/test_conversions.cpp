@@ -12,6 +12,7 @@
 #include <risas/RisasMatchConfig.h>
 
 #include <cv_bridge/cv_bridge.h>
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -515,6 +516,77 @@ TEST(Reconfigure, ConfigsMapToTheirSectionsBothWays) {
   EXPECT_TRUE(applied.soft_binning);  // left as the config had it
   EXPECT_EQ(applied.n_bin, 16);
   EXPECT_EQ(applied.patch_radius, params.descriptor.patch_radius);  // not reconfigurable: kept
+}
+
+// A parameter file as `rosparam load` puts it on the server: YAML's ints as
+// ints (the shipped files write flags as 0 and 1), its reals as doubles.
+XmlRpc::XmlRpcValue asRosparamLoadsIt(const std::string& path) {
+  const cv::FileStorage file(path, cv::FileStorage::READ);
+  XmlRpc::XmlRpcValue sections;
+  for (const cv::FileNode& section : file.root()) {
+    for (const cv::FileNode& field : section) {
+      XmlRpc::XmlRpcValue& value = sections[section.name()][field.name()];
+      if (field.isInt()) {
+        value = static_cast<int>(field);
+      } else {
+        value = static_cast<double>(field);
+      }
+    }
+  }
+  return sections;
+}
+
+std::string paramsText(const RisasParams& p) {
+  cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  p.write(fs);
+  return fs.releaseAndGetString();
+}
+
+// Each shipped file reaches a node through rosparam as it reaches the tools:
+// config/paper.yaml's flags (0 and 1, ints on the server) included.
+TEST(ParamsFromServer, TheShippedFilesGiveWhatTheToolsRead) {
+  for (const char* name : {"risas.yaml", "paper.yaml", "odometry.yaml"}) {
+    const std::string path = std::string(RISAS_SOURCE_DIR "/config/") + name;
+    XmlRpc::XmlRpcValue sections = asRosparamLoadsIt(path);
+    EXPECT_EQ(paramsText(paramsFromXmlRpc(sections)), paramsText(RisasParams::load(path))) << name;
+  }
+  XmlRpc::XmlRpcValue flags;
+  flags["descriptor"]["soft_binning"] = false;
+  flags["descriptor"]["shape_orientation"] = true;
+  flags["detector"]["max_keypoints"] = 1000.0;  // a whole number, as a double
+  flags["queue_size"] = 5;                      // a node's own parameter: not looked at
+  const RisasParams read = paramsFromXmlRpc(flags);
+  EXPECT_FALSE(read.descriptor.soft_binning);
+  EXPECT_TRUE(read.descriptor.shape_orientation);
+  EXPECT_EQ(read.detector.max_keypoints, 1000);
+}
+
+// What a parameter file refuses, the server's parameters are refused for,
+// in one line naming the field: a typo no longer leaves the default
+// silently in place.
+TEST(ParamsFromServer, TyposFractionsBadFlagsAndTextAreRefusedByName) {
+  const auto refusal = [](const char* section, const char* name, XmlRpc::XmlRpcValue value) {
+    XmlRpc::XmlRpcValue sections;
+    sections[section][name] = value;
+    try {
+      paramsFromXmlRpc(sections);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("detector", "max_keypoint", 1000).find("'detector.max_keypoint'"), std::string::npos);
+  EXPECT_NE(refusal("detector", "max_keypoints", 2.5).find("detector.max_keypoints = 2.5 is not a whole number"),
+            std::string::npos);
+  EXPECT_NE(refusal("descriptor", "soft_binning", 2).find("descriptor.soft_binning is a flag"), std::string::npos);
+  EXPECT_NE(refusal("detector", "tau", std::string("high")).find("detector.tau is not a number"), std::string::npos);
+  EXPECT_NE(refusal("detector", "tau", 2.0).find("detector.tau = 2 is outside [0, 1]"), std::string::npos);
+  XmlRpc::XmlRpcValue list;
+  list[0] = 1;
+  EXPECT_NE(refusal("detector", "tau", list).find("detector.tau is not a number"), std::string::npos);
+  XmlRpc::XmlRpcValue not_a_section;
+  not_a_section["detector"] = 5;
+  EXPECT_THROW(paramsFromXmlRpc(not_a_section), std::invalid_argument);
 }
 
 TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {

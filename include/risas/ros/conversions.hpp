@@ -15,6 +15,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 
 #include <Eigen/Geometry>
 #include <geometry_msgs/Pose.h>
@@ -100,7 +101,15 @@ void checkImageTransport(const std::string& transport, const std::string& parame
 
 // RisasParams from the parameter server, nested as in config/risas.yaml
 // (~detector/tau, ~descriptor/n_bin, ...); absent values keep their defaults.
-// std::invalid_argument when a value is out of range.
+// The rules of a parameter file hold (RisasParams::read): flags are true,
+// false, 0 or 1 (rosparam loads the shipped files' 0 and 1 as ints), whole
+// numbers take no fraction, and std::invalid_argument names the first field
+// that is unknown within a section (a typo), not a number, or out of range.
 RisasParams paramsFromServer(const ros::NodeHandle& nh);
+
+// The same from the sections as the server gives them: `sections` maps
+// section names (detector, ...) to their structs; other names are not
+// looked at (the private namespace holds the nodes' own parameters too).
+RisasParams paramsFromXmlRpc(XmlRpc::XmlRpcValue& sections);
 
 }  // namespace risas_ros
