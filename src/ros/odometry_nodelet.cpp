@@ -17,6 +17,7 @@
 #include "risas/odometry.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/ros/log_throttle.hpp"
+#include "risas/ros/node_params.hpp"
 
 #include <risas/KeypointArray.h>
 
@@ -43,15 +44,15 @@ class OdometryNodelet : public nodelet::Nodelet {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     try {
       params_ = paramsFromServer(pnh);
+      odom_frame_ = textParam(pnh, "odom_frame_id", "odom");
+      base_frame_ = textParam(pnh, "base_frame_id", "");
+      publish_tf_ = flagParam(pnh, "publish_tf", true);
+      path_length_ = intParam(pnh, "path_length", 10000, 0, 10000000);
     } catch (const std::exception& e) {
       NODELET_FATAL("odometry parameters rejected: %s", e.what());
       throw;
     }
     odometry_ = std::make_unique<risas::Odometry>(params_.odometry, params_.match, params_.motion);
-    pnh.param<std::string>("odom_frame_id", odom_frame_, "odom");
-    pnh.param<std::string>("base_frame_id", base_frame_, "");
-    pnh.param("publish_tf", publish_tf_, true);
-    pnh.param("path_length", path_length_, 10000);
     if (!base_frame_.empty()) {
       tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);

@@ -15,6 +15,7 @@
 // ~reconnect (true: reopen a device that went away; false: shut down).
 // No device at start: a message saying so and listing what OpenNI2 found,
 // then the node shuts down.
+#include "risas/ros/node_params.hpp"
 #include "risas/ros/openni2_device.hpp"
 #include "risas/ros/rgbd_camera_driver.hpp"
 
@@ -26,6 +27,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 namespace risas_ros {
@@ -41,14 +43,22 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    device_id_ = pnh.param<std::string>("device_id", "");
-    settings_.mode = {pnh.param("width", 640), pnh.param("height", 480), pnh.param("fps", 30)};
-    settings_.depth_registration = pnh.param("depth_registration", true);
-    settings_.frame_sync = pnh.param("frame_sync", true);
-    settings_.rgb_frame_id = pnh.param<std::string>("rgb_frame_id", settings_.rgb_frame_id);
-    settings_.depth_frame_id = pnh.param<std::string>("depth_frame_id", settings_.depth_frame_id);
-    always_on_ = pnh.param("always_on", false);
-    reconnect_ = pnh.param("reconnect", true);
+    std::string url;
+    try {
+      device_id_ = textParam(pnh, "device_id", "");
+      settings_.mode = {intParam(pnh, "width", 640, 1, 10000), intParam(pnh, "height", 480, 1, 10000),
+                        intParam(pnh, "fps", 30, 1, 1000)};
+      settings_.depth_registration = flagParam(pnh, "depth_registration", true);
+      settings_.frame_sync = flagParam(pnh, "frame_sync", true);
+      settings_.rgb_frame_id = textParam(pnh, "rgb_frame_id", settings_.rgb_frame_id);
+      settings_.depth_frame_id = textParam(pnh, "depth_frame_id", settings_.depth_frame_id);
+      always_on_ = flagParam(pnh, "always_on", false);
+      reconnect_ = flagParam(pnh, "reconnect", true);
+      url = textParam(pnh, "camera_info_url", "");
+    } catch (const std::invalid_argument& e) {
+      NODELET_FATAL("invalid camera parameter: %s", e.what());
+      throw;
+    }
 
     const std::string problem = openDevice();
     if (!problem.empty()) {
@@ -57,7 +67,6 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
       return;
     }
     camera_info_ = driver_->cameraInfoFromFov();
-    const std::string url = pnh.param<std::string>("camera_info_url", "");
     if (!url.empty()) {
       camera_info_manager::CameraInfoManager manager(ros::NodeHandle(nh, "rgb"), "rgb", url);
       if (manager.isCalibrated()) {

@@ -20,6 +20,7 @@
 #include "risas/risas.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/ros/log_throttle.hpp"
+#include "risas/ros/node_params.hpp"
 #include "risas/ros/reconfigure.hpp"
 
 #include <risas/KeypointArray.h>
@@ -85,11 +86,12 @@ class RisasNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    queue_size_ = pnh.param("queue_size", 5);
-    always_subscribe_ = pnh.param("always_subscribe", false);
-    const bool approximate = pnh.param("approximate_sync", true);
+    bool approximate = true;
     rgb_it_ = std::make_unique<image_transport::ImageTransport>(nh);
     try {
+      queue_size_ = intParam(pnh, "queue_size", 5, 1, 1000);
+      always_subscribe_ = flagParam(pnh, "always_subscribe", false);
+      approximate = flagParam(pnh, "approximate_sync", true);
       setup_ = std::make_shared<const Setup>(paramsFromServer(pnh));
       // As depth_image_proc: ~image_transport for colour, ~depth_image_transport for depth.
       const std::vector<std::string> loadable = rgb_it_->getLoadableTransports();

@@ -11,6 +11,7 @@
 // ~truth_frame_id (~frame_id + "_truth"), ~arc_deg (swing amplitude, 25),
 // ~period (seconds per swing, 12).
 #include "risas/ros/conversions.hpp"
+#include "risas/ros/node_params.hpp"
 #include "risas/synthetic_scene.hpp"
 
 #include <cv_bridge/cv_bridge.h>
@@ -33,15 +34,17 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    const double rate = pnh.param("rate", 30.0);
-    frame_id_ = pnh.param<std::string>("frame_id", "camera_rgb_optical_frame");
-    world_frame_ = pnh.param<std::string>("world_frame", "world");
-    truth_frame_ = pnh.param<std::string>("truth_frame_id", frame_id_ + "_truth");
-    arc_ = pnh.param("arc_deg", 25.0) * M_PI / 180.0;
-    period_ = pnh.param("period", 12.0);
-    if (!(rate > 0.0) || !(period_ > 0.0)) {
-      NODELET_FATAL("~rate and ~period must be positive (rate %.3f, period %.3f)", rate, period_);
-      throw std::invalid_argument("bad SyntheticRgbdNodelet parameters");
+    double rate = 30.0;
+    try {
+      rate = numberParam(pnh, "rate", 30.0, 0.01, 1000.0);
+      frame_id_ = textParam(pnh, "frame_id", "camera_rgb_optical_frame");
+      world_frame_ = textParam(pnh, "world_frame", "world");
+      truth_frame_ = textParam(pnh, "truth_frame_id", frame_id_ + "_truth");
+      arc_ = numberParam(pnh, "arc_deg", 25.0, 0.0, 180.0) * M_PI / 180.0;
+      period_ = numberParam(pnh, "period", 12.0, 0.01, 1e6);
+    } catch (const std::invalid_argument& e) {
+      NODELET_FATAL("invalid synthetic camera parameter: %s", e.what());
+      throw;
     }
 
     info_ = cameraInfoFromIntrinsics(risas::syntheticIntrinsics(), size_);

@@ -5,6 +5,7 @@
 #include "risas/params.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/ros/log_throttle.hpp"
+#include "risas/ros/node_params.hpp"
 #include "risas/ros/reconfigure.hpp"
 
 #include <risas/RisasDescriptorConfig.h>
@@ -20,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace risas_ros {
@@ -587,6 +589,44 @@ TEST(ParamsFromServer, TyposFractionsBadFlagsAndTextAreRefusedByName) {
   XmlRpc::XmlRpcValue not_a_section;
   not_a_section["detector"] = 5;
   EXPECT_THROW(paramsFromXmlRpc(not_a_section), std::invalid_argument);
+}
+
+// A node's own parameters: what was given, or one line naming it, where
+// roscpp's NodeHandle::param would fall back to the default in silence
+// (`_approximate_sync:=0` is an int on the server, not a bool).
+TEST(NodeParams, GivenValuesAreTakenAndWrongOnesRefusedByName) {
+  const auto refusal = [](auto read, XmlRpc::XmlRpcValue value) {
+    try {
+      read(value);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  XmlRpc::XmlRpcValue zero(0), one(1), yes(true), whole(5.0), text(std::string("depth"));
+  EXPECT_FALSE(flagValue("~approximate_sync", zero));
+  EXPECT_TRUE(flagValue("~approximate_sync", one));
+  EXPECT_TRUE(flagValue("~approximate_sync", yes));
+  EXPECT_EQ(intValue("~queue_size", whole, 1, 1000), 5);
+  EXPECT_EQ(intValue("~queue_size", one, 1, 1000), 1);
+  EXPECT_DOUBLE_EQ(numberValue("~rate", one, 0.01, 1000.0), 1.0);
+  EXPECT_EQ(textValue("~frame_id", text), "depth");
+
+  const auto flag = [](XmlRpc::XmlRpcValue& v) { return flagValue("~approximate_sync", v); };
+  const auto queue = [](XmlRpc::XmlRpcValue& v) { return intValue("~queue_size", v, 1, 1000); };
+  const auto rate = [](XmlRpc::XmlRpcValue& v) { return numberValue("~rate", v, 0.01, 1000.0); };
+  const auto frame = [](XmlRpc::XmlRpcValue& v) { return textValue("~frame_id", v); };
+  EXPECT_EQ(refusal(flag, 2), "~approximate_sync must be a flag: true, false, 0 or 1 (got <value><i4>2</i4></value>)");
+  EXPECT_NE(refusal(flag, std::string("yes")).find("~approximate_sync must be a flag"), std::string::npos);
+  EXPECT_NE(refusal(queue, 0).find("~queue_size must be a whole number in [1, 1000]"), std::string::npos);
+  EXPECT_NE(refusal(queue, 2.5).find("~queue_size must be a whole number"), std::string::npos);
+  EXPECT_NE(refusal(queue, std::string("5")).find("~queue_size must be a whole number"), std::string::npos);
+  EXPECT_NE(refusal(rate, 0.0).find("~rate must be a number in [0.01, 1000]"), std::string::npos);
+  EXPECT_NE(refusal(rate, std::numeric_limits<double>::quiet_NaN()).find("~rate must be"), std::string::npos);
+  XmlRpc::XmlRpcValue serial(1208180007);  // <param name="device_id" value="1208180007"/>
+  EXPECT_EQ(textValue("~device_id", serial), "1208180007");
+  EXPECT_NE(refusal(frame, 2.5).find("~frame_id must be text"), std::string::npos);
+  EXPECT_NE(refusal(frame, true).find("~frame_id must be text"), std::string::npos);
 }
 
 TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {

@@ -6,6 +6,7 @@
 //   BadInput  risas_node alone; this test publishes good and bad frames
 //   Bag       bag.launch playing a bag written by risas_dataset_to_bag
 //   Transports risas_node, started here, asked for a lossy or missing transport
+//   NodeParameters  risas_node, started here, given a bad flag or a typo (transports.test)
 //   NoDevice  the OpenNI2 camera node, started here, asked for a device that is not there
 #include "risas/params.hpp"
 #include "risas/ros/conversions.hpp"
@@ -697,6 +698,18 @@ TEST(Transports, LossyDepthOrAnUninstalledTransportStopsTheNodeWithItsName) {
   const auto [missing_status, missing] = runRisasNode("__name:=risas_missing _image_transport:=theora");
   EXPECT_EQ(missing_status, 1) << missing;
   EXPECT_NE(missing.find("image_transport 'theora' is not installed (installed: raw"), std::string::npos) << missing;
+}
+
+// A node parameter of the wrong kind, or a typo in an algorithm parameter,
+// stops the node by name, where roscpp would keep the default (an int for a
+// flag, an unknown name) in silence.
+TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
+  const auto [flag_status, flag] = runRisasNode("__name:=risas_flag _approximate_sync:=2");
+  EXPECT_EQ(flag_status, 1) << flag;
+  EXPECT_NE(flag.find("~approximate_sync must be a flag: true, false, 0 or 1"), std::string::npos) << flag;
+  const auto [typo_status, typo] = runRisasNode("__name:=risas_typo _detector/max_keypoint:=1000");
+  EXPECT_EQ(typo_status, 1) << typo;
+  EXPECT_NE(typo.find("unknown parameter 'detector.max_keypoint'"), std::string::npos) << typo;
 }
 
 // ---------------------------------------------------------------- NoDevice --
