@@ -286,13 +286,15 @@ void checkImageTransport(const std::string& transport, const std::string& parame
                               (installed.empty() ? "none" : installed) + ")");
 }
 
-RisasParams paramsFromXmlRpc(XmlRpc::XmlRpcValue& sections) {
-  // Written as FileStorage text and read by RisasParams::read, so that a
-  // file and the server share one reader and cannot disagree on a name, a
-  // type or a range.
+namespace {
+
+// The RISAS sections of `sections` as the text of a parameter file: flags as
+// 0 or 1, numbers and text as given, lists and maps as text (which the
+// reader refuses as not a number).
+std::string asParameterFile(XmlRpc::XmlRpcValue& sections) {
   cv::FileStorage text(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-  RisasParams params;
-  visitSections(params, [&](const char* section, auto&) {
+  RisasParams names;
+  visitSections(names, [&](const char* section, const auto&) {
     if (sections.getType() != XmlRpc::XmlRpcValue::TypeStruct || !sections.hasMember(section)) return;
     XmlRpc::XmlRpcValue& fields = sections[section];
     if (fields.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
@@ -305,13 +307,26 @@ RisasParams paramsFromXmlRpc(XmlRpc::XmlRpcValue& sections) {
         case XmlRpc::XmlRpcValue::TypeInt: text << name << static_cast<int>(value); break;
         case XmlRpc::XmlRpcValue::TypeDouble: text << name << static_cast<double>(value); break;
         case XmlRpc::XmlRpcValue::TypeString: text << name << static_cast<std::string>(value); break;
-        default: text << name << "(a list or a map)"; break;  // read refuses it as not a number
+        default: text << name << "(a list or a map)"; break;
       }
     }
     text << "}";
   });
-  const cv::FileStorage read(text.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  params.read(read.root());
+  return text.releaseAndGetString();
+}
+
+}  // namespace
+
+RisasParams paramsFromXmlRpc(XmlRpc::XmlRpcValue& sections) {
+  // Read as a parameter file by RisasParams::read, so that a file and the
+  // server share one reader and cannot disagree on a name, a type or a range.
+  RisasParams params;
+  try {
+    const cv::FileStorage file(asParameterFile(sections), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    params.read(file.root());
+  } catch (const cv::Exception& e) {  // a name or value FileStorage cannot write or read back
+    throw InputError("parameters not readable as a parameter file: " + e.err);
+  }
   params.validate();
   return params;
 }

@@ -586,6 +586,7 @@ TEST(ParamsFromServer, TyposFractionsBadFlagsAndTextAreRefusedByName) {
   XmlRpc::XmlRpcValue list;
   list[0] = 1;
   EXPECT_NE(refusal("detector", "tau", list).find("detector.tau is not a number"), std::string::npos);
+  EXPECT_NE(refusal("detector", "max keypoints!", 1), "accepted");  // no name of a file: refused, not thrown past
   XmlRpc::XmlRpcValue not_a_section;
   not_a_section["detector"] = 5;
   EXPECT_THROW(paramsFromXmlRpc(not_a_section), std::invalid_argument);
