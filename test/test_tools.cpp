@@ -206,7 +206,16 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   EXPECT_LT(std::stod(three.output.substr(highest + 4)), 0.01) << three.output;
   const ToolRun none = run(common + " --out " + file("none.txt") + " --ransac-seeds 0");
   EXPECT_EQ(none.exit_code, 2) << none.output;
-  EXPECT_NE(none.output.find("--ransac-seeds must be at least 1"), std::string::npos) << none.output;
+  EXPECT_NE(none.output.find("--ransac-seeds must be a whole number in [1, 1000], got '0'"), std::string::npos)
+      << none.output;
+  // A count beyond reason is refused before the work (1e9 seeds would run for
+  // days), and one beyond an int before it is cast (1e20).
+  for (const char* count : {"1e9", "1e20", "2.5"}) {
+    const ToolRun absurd = run(common + " --out " + file("none.txt") + " --ransac-seeds " + count);
+    EXPECT_EQ(absurd.exit_code, 2) << absurd.output;
+    EXPECT_NE(absurd.output.find("--ransac-seeds must be a whole number in [1, 1000]"), std::string::npos)
+        << absurd.output;
+  }
   const ToolRun no_frames = run(common + " --out " + file("none.txt") + " --max-frames 0");
   EXPECT_EQ(no_frames.exit_code, 2) << no_frames.output;
 }

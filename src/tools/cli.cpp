@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -79,10 +80,13 @@ double Args::getDouble(const std::string& name, double fallback) const {
   return has(name) ? getDouble(name) : fallback;
 }
 
-int Args::getInt(const std::string& name, int fallback) const {
+int Args::getInt(const std::string& name, int fallback, int lo, int hi) const {
   if (!has(name)) return fallback;
   const double value = getDouble(name);
-  if (value != static_cast<int>(value)) throw UsageError("--" + name + " expects a whole number");
+  if (!(value >= lo && value <= hi) || value != std::floor(value)) {
+    throw UsageError("--" + name + " must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                     "], got '" + get(name) + "'");
+  }
   return static_cast<int>(value);
 }
 

@@ -34,7 +34,9 @@ class Args {
   std::string get(const std::string& name, const std::string& fallback) const;
   double getDouble(const std::string& name) const;
   double getDouble(const std::string& name, double fallback) const;
-  int getInt(const std::string& name, int fallback) const;
+  // A whole number within [lo, hi]: UsageError naming the option and the
+  // range otherwise (checked before any cast, so 1e20 is refused, not cast).
+  int getInt(const std::string& name, int fallback, int lo, int hi) const;
 
  private:
   std::map<std::string, std::string> values_;

@@ -88,9 +88,8 @@ int main(int argc, char** argv) {
         "Times each RISAS stage per frame beside OpenCV ORB (1000 features) and SIFT on the\n"
         "same frames. Without --data or --tum it renders synthetic frames.",
         options);
-    const int count = args.getInt("frames", 5), repeats = args.getInt("repeats", 3);
-    const int threads = args.getInt("threads", 1);
-    if (count < 1 || repeats < 1) throw risas::cli::UsageError("--frames and --repeats must be at least 1");
+    const int count = args.getInt("frames", 5, 1, 100000), repeats = args.getInt("repeats", 3, 1, 1000);
+    const int threads = args.getInt("threads", 1, 0, 1024);
     cv::setNumThreads(threads == 0 ? -1 : threads);
     if (args.has("data") && args.has("tum")) throw risas::cli::UsageError("give --data or --tum, not both");
     const std::vector<risas::RgbdFrame> frames =

@@ -112,8 +112,7 @@ int main(int argc, char** argv) {
         "Writes pairs.csv, curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
         options);
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
-    const int ransac_seeds = args.getInt("ransac-seeds", 8);
-    if (ransac_seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
+    const int ransac_seeds = args.getInt("ransac-seeds", 8, 1, 1000);
     const std::string refit_name = args.get("pose-refit", "umeyama");
     if (refit_name != "umeyama" && refit_name != "reprojection") {
       throw risas::cli::UsageError("--pose-refit is umeyama or reprojection, not '" + refit_name + "'");
@@ -146,7 +145,7 @@ int main(int argc, char** argv) {
         if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
         gaps.push_back(gap);
       }
-      pairs = risas::eval::listTumPairs(root, gaps, args.getInt("pair-stride", 1));
+      pairs = risas::eval::listTumPairs(root, gaps, args.getInt("pair-stride", 1, 1, 1000000));
     } else {
       pairs = risas::eval::listPairs(root, split(args.get("scenes", "texture,geometry")),
                                      split(args.get("sequences", all_sequences)));

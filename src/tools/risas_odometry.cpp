@@ -121,10 +121,9 @@ int main(int argc, char** argv) {
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const risas::TumSequence sequence = risas::readTumSequence(args.get("tum"));
-    const int max_frames = args.getInt("max-frames", static_cast<int>(sequence.frames.size()));
-    if (max_frames < 1) throw risas::cli::UsageError("--max-frames must be at least 1");
-    const int seeds = args.getInt("ransac-seeds", 1);
-    if (seeds < 1) throw risas::cli::UsageError("--ransac-seeds must be at least 1");
+    const int max_frames = args.getInt("max-frames", static_cast<int>(sequence.frames.size()), 1, 100000000);
+    const int seeds = args.getInt("ransac-seeds", 1, 1, 1000);
+    const int delta = args.getInt("delta", 1, 1, 1000000);
     const std::filesystem::path gt = std::filesystem::path(args.get("tum")) / "groundtruth.txt";
     const bool scored = std::filesystem::exists(gt);
 
@@ -180,7 +179,7 @@ int main(int argc, char** argv) {
       const risas::eval::AssociatedTrajectory all_frames =
           scored ? risas::eval::associate(trajectory, truth) : risas::eval::AssociatedTrajectory();
       const risas::eval::TrajectoryError e =
-          scored ? risas::eval::trajectoryError(all_frames, args.getInt("delta", 1)) : risas::eval::TrajectoryError();
+          scored ? risas::eval::trajectoryError(all_frames, delta) : risas::eval::TrajectoryError();
       ates.push_back(e.ate_rmse);
       if (k > 0) continue;
       risas::writeTumTrajectory(out, trajectory);
@@ -190,7 +189,7 @@ int main(int argc, char** argv) {
       if (!scored) continue;
       std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
                 << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n"
-                << "RPE (" << args.getInt("delta", 1) << " frame) translation RMSE " << e.rpe_translation_rmse
+                << "RPE (" << delta << " frame) translation RMSE " << e.rpe_translation_rmse
                 << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
                 << e.rpe_pairs << " pairs\n";
       printCovarianceConsistency(risas::eval::associate(tracked, truth), tracked_covariances);

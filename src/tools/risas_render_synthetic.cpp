@@ -38,9 +38,8 @@ int main(int argc, char** argv) {
          {"frames", "N", "number of frames (default 4)"},
          {"step-deg", "A", "orbit step between frames in degrees (default 5)"}});
     const std::filesystem::path dir = args.get("out");
-    const int frames = args.getInt("frames", 4);
+    const int frames = args.getInt("frames", 4, 1, 10000);
     const double step = args.getDouble("step-deg", 5.0) * CV_PI / 180.0;
-    if (frames < 1) throw risas::cli::UsageError("--frames must be at least 1");
     std::filesystem::create_directories(dir);
 
     const risas::SyntheticScene scene = risas::SyntheticScene::demo();
