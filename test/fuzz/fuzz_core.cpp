@@ -540,7 +540,7 @@ void fuzzParams(Bytes& in) {
       return what.rfind(start + path, 0) == 0 && what.find('\n') == std::string::npos;
     };
     try {
-      risas::RisasParams::load(path).validate();
+      risas::RisasParams::load(path);  // validates, the fields against each other too
     } catch (const std::runtime_error& e) {
       require(one_line_naming(e.what(), "cannot parse parameter file "), "a parse error is one line naming the file");
     } catch (const std::invalid_argument& e) {
