@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config libgtest-dev libeigen3-dev libopencv-dev
+  build-essential cmake pkg-config libgtest-dev libeigen3-dev libopencv-dev zlib1g-dev
   ros-core-dev rosbash python3-rostest catkin
   libnodeletlib-dev libnodeletlib-tools libimage-transport-dev libcv-bridge-dev ros-image-view libimage-view-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure

@@ -5,6 +5,7 @@
 
 #include "risas/errors.hpp"
 #include "risas/io.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace risas {
 namespace {
@@ -289,6 +291,42 @@ TEST(FeaturesFile, RoundTripsInYamlAndJson) {
     writeFeatures(dir.file(name), Features{});  // a frame without keypoints
     EXPECT_TRUE(readFeatures(dir.file(name)).keypoints.empty()) << name;
   }
+}
+
+// Every file the library writes is written whole or refused in an
+// InputError naming it and the system's reason: std::ofstream and
+// cv::FileStorage, which wrote them before, said nothing on a full disk.
+TEST(WrittenFiles, AreWholeOrAnErrorNamingTheFileAndTheReason) {
+  const TempDir dir;
+  writeTextFile(dir.file("plain.txt"), "one\ntwo\n", "test file");
+  std::stringstream back;
+  back << std::ifstream(dir.file("plain.txt")).rdbuf();
+  EXPECT_EQ(back.str(), "one\ntwo\n");
+  writeTextFile(dir.file("packed.yml.gz"), "%YAML:1.0\n---\nvalue: 3\n", "test file");  // gzip: FileStorage reads it
+  EXPECT_EQ(static_cast<int>(cv::FileStorage(dir.file("packed.yml.gz"), cv::FileStorage::READ)["value"]), 3);
+  std::ifstream packed(dir.file("packed.yml.gz"), std::ios::binary);
+  EXPECT_EQ(packed.get(), 0x1f);  // gzip's magic number, not the text
+  EXPECT_EQ(packed.get(), 0x8b);
+  EXPECT_EQ(test::inputErrorOf([&] { writeTextFile(dir.file("no/such/folder.txt"), "x", "test file"); }),
+            "cannot write test file " + dir.file("no/such/folder.txt") + ": No such file or directory");
+
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  // /dev/full opens and then fails every write, as a full disk does.
+  fs::create_symlink("/dev/full", dir.file("full.gz"));
+  const std::string large(1 << 20, 'x');  // beyond any buffer: fails at the write, not only at the close
+  for (const std::string& text : {std::string("short"), large}) {
+    EXPECT_EQ(test::inputErrorOf([&] { writeTextFile("/dev/full", text, "test file"); }),
+              "cannot write test file /dev/full: No space left on device");
+    EXPECT_EQ(test::inputErrorOf([&] { writeTextFile(dir.file("full.gz"), text, "test file"); }),
+              "cannot write test file " + dir.file("full.gz") + ": No space left on device");
+  }
+  const Features features = Risas().extract(test::renderFrame(SyntheticScene::demo(), test::demoCamera()));
+  EXPECT_EQ(test::inputErrorOf([&] { writeFeatures("/dev/full", features); }),
+            "cannot write features file /dev/full: No space left on device");
+  EXPECT_EQ(test::inputErrorOf([&] { writeTumTrajectory("/dev/full", {{1.0, Eigen::Isometry3d::Identity()}}); }),
+            "cannot write trajectory /dev/full: No space left on device");
+  EXPECT_EQ(test::inputErrorOf([&] { RisasParams().save("/dev/full"); }),
+            "cannot write parameter file /dev/full: No space left on device");
 }
 
 TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {

@@ -298,6 +298,49 @@ TEST_F(Tools, ARecordingsFrameWithoutDepthIsNamed) {
   }
 }
 
+// A write that fails after the output opened (a full disk: /dev/full under
+// the output's name) is an error in one line, not "written to" and exit 0
+// with a short file; standard output likewise.
+TEST_F(Tools, AFullDiskIsAnErrorNotASuccess) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const auto full = [](const std::string& name) {
+    const fs::path link = dir / name;
+    fs::remove(link);
+    fs::create_symlink("/dev/full", link);
+    return link.string();
+  };
+  const std::string extract = "risas_extract" + frameArgs("", 1) + " --intrinsics " + file("camera-intrinsics.txt");
+  for (const char* name : {"full.yml", "full.yml.gz"}) {
+    const ToolRun r = run(extract + " --out " + full(name));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("risas_extract: error: cannot write features file " + file(name) +
+                            ": No space left on device"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("written to"), std::string::npos) << r.output;
+  }
+  const std::string odometry = "risas_odometry --tum " + tumFolder(3).string() + " --intrinsics " +
+                               file("camera-intrinsics.txt");
+  ToolRun r = run(odometry + " --out " + full("full.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot write trajectory " + file("full.txt") + ": No space left on device"),
+            std::string::npos)
+      << r.output;
+  r = run(odometry + " --out " + file("fine.txt") + " --frames " + full("full.csv"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot write frame table " + file("full.csv")), std::string::npos) << r.output;
+  // Standard output on a full disk, the error on its own stream.
+  const fs::path errors = dir / "stderr.txt";
+  const int status = std::system((std::string(RISAS_BIN_DIR) + "/" + extract + " --out " + file("fine.yml") +
+                                  " > /dev/full 2> " + errors.string())
+                                     .c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::stringstream said;
+  said << std::ifstream(errors).rdbuf();
+  EXPECT_EQ(said.str(), "risas_extract: error: cannot write standard output: No space left on device\n");
+}
+
 TEST_F(Tools, WrongUsageAndBadInputFailClearly) {
   ToolRun r = run("risas_extract --rgb x.png");
   EXPECT_EQ(r.exit_code, 2);

@@ -1,5 +1,6 @@
 // Files: intrinsics, RGB-D frames from PNG, features in cv::FileStorage.
-// Every reader throws InputError with the path and what is wrong with it.
+// Every reader throws InputError with the path and what is wrong with it;
+// every writer throws InputError when the file is not written whole.
 #pragma once
 
 #include "risas/features.hpp"
@@ -78,8 +79,16 @@ RgbdFrame loadRgbdFrame(const std::string& color_path, const std::string& depth_
 // descriptor_layout does not give the descriptors' width, or the geometry's
 // matrices do not match the keypoints or have several channels; their
 // numbers of another depth (doubles, integers) are read as CV_32F.
-// .yml, .yaml, .xml or .json, by the extension, as cv::FileStorage does.
+// .yml, .yaml, .xml or .json, by the extension, as cv::FileStorage does;
+// with .gz after it (f.yml.gz), compressed.
 void writeFeatures(const std::string& path, const Features& features);
 Features readFeatures(const std::string& path);
+
+// Writes `text` to `path` whole (gzip-compressed when the path ends in .gz),
+// or throws InputError naming `what`, the path and the system's reason.
+// std::ofstream and cv::FileStorage let a failed write pass in silence: a
+// full disk left a truncated file and the tool said it had written it. The
+// library's and the tools' files are written through here.
+void writeTextFile(const std::string& path, const std::string& text, const std::string& what);
 
 }  // namespace risas

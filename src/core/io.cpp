@@ -6,8 +6,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <unistd.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,6 +22,10 @@
 
 namespace risas {
 namespace {
+
+bool endsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
 
 // What a call writes to the process's stderr (file descriptor 2) while it
 // runs, captured instead of shown: libpng reports a corrupt file there
@@ -263,9 +270,12 @@ void writeFeatures(const std::string& path, const Features& features) {
   if (features.descriptors.rows != n || (!features.geometry.empty() && static_cast<int>(features.geometry.size()) != n)) {
     throw InputError("features to write are inconsistent: keypoints, descriptors and geometry differ in count");
   }
+  // FileStorage writes into memory (its format from the name's extension),
+  // writeTextFile to the file: FileStorage's own file writes ignore errors.
+  const std::string name = endsWith(path, ".gz") ? path.substr(0, path.size() - 3) : path;
   cv::FileStorage fs;
   try {
-    fs.open(path, cv::FileStorage::WRITE);
+    fs.open(name, cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& e) {
     throw InputError("cannot write features file " + path + ": " + e.msg);
   }
@@ -286,6 +296,7 @@ void writeFeatures(const std::string& path, const Features& features) {
   if (!features.geometry.empty()) {
     fs << "points3d" << points << "normals" << normals << "support_radius" << radius;
   }
+  writeTextFile(path, fs.releaseAndGetString(), "features file");
 }
 
 Features readFeatures(const std::string& path) {
@@ -334,6 +345,42 @@ Features readFeatures(const std::string& path) {
     throw InputError("cannot parse features file " + path + ": OpenCV's parser failed (" + e.what() + ")");
   }
   return features;
+}
+
+void writeTextFile(const std::string& path, const std::string& text, const std::string& what) {
+  // The reason is errno as the failing call left it, read straight after it.
+  const auto failed = [&](int error) {
+    return InputError("cannot write " + what + " " + path + ": " +
+                      (error != 0 ? std::strerror(error) : "the write failed"));
+  };
+  bool written = true, closed = true;
+  int write_error = 0, close_error = 0;
+  if (endsWith(path, ".gz")) {
+    gzFile file = gzopen(path.c_str(), "wb");
+    if (file == nullptr) throw failed(errno);
+    // gzwrite takes an unsigned count: the text in pieces of at most 1 GiB.
+    for (size_t at = 0; written && at < text.size();) {
+      const unsigned piece = static_cast<unsigned>(std::min<size_t>(text.size() - at, size_t{1} << 30));
+      errno = 0;
+      written = gzwrite(file, text.data() + at, piece) == static_cast<int>(piece);
+      write_error = written ? 0 : errno;
+      at += piece;
+    }
+    errno = 0;
+    closed = gzclose(file) == Z_OK;  // compresses and writes what is left
+    close_error = errno;
+  } else {
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (file == nullptr) throw failed(errno);
+    errno = 0;
+    written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+    write_error = written ? 0 : errno;
+    errno = 0;
+    closed = std::fclose(file) == 0;  // flushes what fwrite buffered: a full disk often shows only here
+    close_error = errno;
+  }
+  if (!written) throw failed(write_error);
+  if (!closed) throw failed(close_error);
 }
 
 }  // namespace risas

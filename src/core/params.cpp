@@ -3,6 +3,7 @@
 #include "risas/params_fields.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/io.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -263,9 +264,10 @@ RisasParams RisasParams::load(const std::string& path) {
 }
 
 void RisasParams::save(const std::string& path) const {
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw std::runtime_error("cannot write parameter file " + path);
+  // Into memory (the format from the name), then written whole or refused.
+  cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   write(fs);
+  writeTextFile(path, fs.releaseAndGetString(), "parameter file");
 }
 
 }  // namespace risas

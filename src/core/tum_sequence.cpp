@@ -96,8 +96,7 @@ std::vector<StampedPose> readTumTrajectory(const std::string& path_name) {
 }
 
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
-  std::ofstream out(path);
-  if (!out) throw InputError("cannot write trajectory " + path);
+  std::ostringstream out;
   out << "# timestamp tx ty tz qx qy qz qw\n" << std::fixed;
   for (const StampedPose& p : poses) {
     const Eigen::Quaterniond q(p.world_T_camera.linear());
@@ -105,6 +104,7 @@ void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>&
     out << std::setprecision(6) << p.stamp << std::setprecision(7) << " " << t.x() << " " << t.y() << " " << t.z()
         << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << "\n";
   }
+  writeTextFile(path, out.str(), "trajectory");
 }
 
 std::vector<std::pair<size_t, size_t>> associateStamps(const std::vector<double>& a, const std::vector<double>& b,

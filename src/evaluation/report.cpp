@@ -1,11 +1,10 @@
 #include "risas/evaluation/evaluator.hpp"
 
-#include "risas/errors.hpp"
+#include "risas/io.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <map>
 #include <set>
@@ -45,7 +44,7 @@ std::string sumText(double sum) {
 
 // Per scene: each method's pose success rates per sequence, and over all
 // the scene's pairs, with mean inliers and correct matches over them.
-void writePoseTable(std::ofstream& md, const std::string& scene, const std::vector<std::string>& present,
+void writePoseTable(std::ostream& md, const std::string& scene, const std::vector<std::string>& present,
                     const std::vector<std::string>& methods, const std::map<Key, Group>& groups, double report_ratio,
                     PoseRefit refit) {
   md << "### " << scene << ": pose recovered within 5 deg / 5 cm (2 deg / 2 cm)"
@@ -78,11 +77,16 @@ void writePoseTable(std::ofstream& md, const std::string& scene, const std::vect
   md << "\n";
 }
 
-std::ofstream openFile(const std::string& dir, const std::string& name) {
-  std::ofstream out(std::filesystem::path(dir) / name);
-  if (!out) throw InputError("cannot write " + (std::filesystem::path(dir) / name).string());
+// A report's text, kept until it is complete and then written whole, so
+// that a failed write is an error (writeTextFile) and not a short file.
+std::ostringstream reportText() {
+  std::ostringstream out;
   out << std::setprecision(6);
   return out;
+}
+
+void writeReport(const std::string& dir, const std::string& name, const std::ostringstream& text) {
+  writeTextFile((std::filesystem::path(dir) / name).string(), text.str(), "report");
 }
 
 }  // namespace
@@ -103,7 +107,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
     groups[{r.pair.scene, r.pair.sequence, r.method}].results.push_back(&r);
   }
 
-  std::ofstream pairs = openFile(dir, "pairs.csv");
+  std::ostringstream pairs = reportText();
   pairs << "scene,sequence,pair,step,method,reference_keypoints,query_keypoints,dropped_reference,dropped_query,"
            "positives,pr_auc,precision,recall,correct,distinct_correct,matches,ms_per_frame,pose_estimated,inliers,"
            "rotation_error_deg,alignment_error_m,success_5deg_5cm,success_2deg_2cm,repeatable,visible,inlier_spread_m,"
@@ -118,10 +122,11 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
           << r.repeatability.repeated << "," << r.repeatability.visible << "," << r.pose.inlier_spread_m << ","
           << r.depth_agreement << "," << r.depth_agreement_truth << "\n";
   }
+  writeReport(dir, "pairs.csv", pairs);
 
-  std::ofstream curves = openFile(dir, "curves.csv");
+  std::ostringstream curves = reportText();
   curves << "scene,sequence,method,ratio,precision,recall\n";
-  std::ofstream summary = openFile(dir, "summary.csv");
+  std::ostringstream summary = reportText();
   summary << "scene,sequence,method,pairs,mean_pr_auc,precision,recall,correct,distinct_correct,keypoints,"
              "ms_per_frame,success_5deg_5cm,success_2deg_2cm,mean_inliers,repeatability,misses,misses_preferred_by_depth\n";
   for (const auto& [key, group] : groups) {
@@ -147,8 +152,10 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
             << group.mean(success2) << "," << group.mean(inliers) << "," << group.mean(repeatability) << ","
             << sumText(group.sum(missed)) << "," << sumText(group.sum(missedPreferredByDepth)) << "\n";
   }
+  writeReport(dir, "curves.csv", curves);
+  writeReport(dir, "summary.csv", summary);
 
-  std::ofstream scale = openFile(dir, "scale.csv");
+  std::ostringstream scale = reportText();
   scale << "scene,method,step,correct_percentage,correct,matches\n";
   for (const PairResult& r : results) {
     if (r.pair.sequence != "scale") continue;
@@ -156,8 +163,9 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
     scale << r.pair.scene << "," << r.method << "," << r.pair.step << "," << percent << "," << r.at_ratio.correct
           << "," << r.at_ratio.matches << "\n";
   }
+  writeReport(dir, "scale.csv", scale);
 
-  std::ofstream md = openFile(dir, "summary.md");
+  std::ostringstream md = reportText();
   md << std::fixed;
   for (const std::string& scene : scenes) {
     md << "### " << scene << ": mean PR-AUC\n\n| method |";
@@ -205,6 +213,7 @@ void writeReports(const std::string& dir, const std::vector<PairResult>& results
     md << "\n";
     writePoseTable(md, scene, present, methods, groups, report_ratio, refit);
   }
+  writeReport(dir, "summary.md", md);
 }
 
 }  // namespace risas::eval

@@ -5,7 +5,9 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
@@ -133,7 +135,14 @@ void requireWritable(const std::string& path) {
 
 int runTool(const char* tool, const std::function<int()>& body) {
   try {
-    return body();
+    const int code = body();
+    // What a tool prints is its result too: a full disk or a closed pipe
+    // under its standard output is a failure, not a success.
+    errno = 0;
+    if (!std::cout.flush()) {
+      throw InputError(std::string("cannot write standard output") + (errno ? std::string(": ") + std::strerror(errno) : ""));
+    }
+    return code;
   } catch (const UsageError& e) {
     std::cerr << tool << ": " << e.what() << " (see " << tool << " --help)\n";
     return 2;

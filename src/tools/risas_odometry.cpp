@@ -7,6 +7,7 @@
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"
+#include "risas/io.hpp"
 #include "risas/odometry.hpp"
 #include "risas/risas.hpp"
 #include "risas/tum_sequence.hpp"
@@ -18,10 +19,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -148,9 +149,10 @@ int main(int argc, char** argv) {
       std::vector<risas::StampedPose> trajectory, tracked;
       std::vector<Eigen::Matrix<double, 6, 6>> tracked_covariances;
       std::vector<risas::eval::FrameMotion> motions;
-      std::ofstream frames_csv;
-      if (k == 0 && args.has("frames")) {
-        frames_csv.open(args.get("frames"));
+      // The first seed's per-frame table, written whole after its run.
+      const bool write_frames = k == 0 && args.has("frames");
+      std::ostringstream frames_csv;
+      if (write_frames) {
         frames_csv << "stamp,tracked,keyframe,features,matches,inliers,rmse,position_sd,rotation_sd_deg\n"
                    << std::fixed << std::setprecision(6);
       }
@@ -169,7 +171,7 @@ int main(int argc, char** argv) {
           tracked_covariances.push_back(r.covariance);
         }
         if (r.motion_tracked) motions.push_back({i - 1, i, r.previous_T_camera, r.motion_covariance});
-        if (frames_csv.is_open()) {
+        if (write_frames) {
           frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
                      << "," << r.matches << "," << r.inliers << "," << r.rmse << ","
                      << std::sqrt(r.covariance.topLeftCorner<3, 3>().trace()) << ","
@@ -182,6 +184,7 @@ int main(int argc, char** argv) {
           scored ? risas::eval::trajectoryError(all_frames, delta) : risas::eval::TrajectoryError();
       ates.push_back(e.ate_rmse);
       if (k > 0) continue;
+      if (write_frames) risas::writeTextFile(args.get("frames"), frames_csv.str(), "frame table");
       risas::writeTumTrajectory(out, trajectory);
       std::cout << features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
                 << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes()

@@ -4,25 +4,26 @@
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/io.hpp"
 #include "risas/synthetic_scene.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace {
 
 void writeMatrix(const std::string& path, const Eigen::MatrixXd& m) {
-  std::ofstream out(path);
-  if (!out) throw risas::InputError("cannot write " + path);
+  std::ostringstream out;
   out << std::setprecision(12);
   for (int r = 0; r < m.rows(); ++r) {
     for (int c = 0; c < m.cols(); ++c) out << (c ? " " : "") << m(r, c);
     out << "\n";
   }
+  risas::writeTextFile(path, out.str(), "matrix file");
 }
 
 }  // namespace
