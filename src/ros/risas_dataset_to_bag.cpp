@@ -27,12 +27,12 @@ int main(int argc, char** argv) {
     const double rate = args.getDouble("rate", 10.0);
     if (!(rate > 0.0)) throw risas::cli::UsageError("--rate must be positive");
     const std::string ns = args.get("camera", "camera");
+    risas::cli::requireWritable(out);
     const risas::Intrinsics K = risas::findIntrinsics(dir);
     const std::vector<risas::SequenceFrame> frames = risas::listSequence(dir);
     if (frames.empty()) throw risas::InputError("no rgb_1.png/depth_1.png in " + dir);
 
-    rosbag::Bag bag;
-    risas_ros::openBagForWriting(bag, out);
+    risas_ros::BagWriter bag(out);
     const ros::Time start(1.0e9);  // fixed, so the same sequence gives the same bag
     for (size_t i = 0; i < frames.size(); ++i) {
       const risas::RgbdImages images = risas::readRgbdImages(frames[i].rgb_path, frames[i].depth_path);

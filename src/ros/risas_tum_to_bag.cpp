@@ -29,8 +29,7 @@ int main(int argc, char** argv) {
     risas::cli::requireWritable(out);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const risas::TumSequence sequence = risas::readTumSequence(args.get("tum"));
-    rosbag::Bag bag;
-    risas_ros::openBagForWriting(bag, out);
+    risas_ros::BagWriter bag(out);
     for (size_t i = 0; i < sequence.frames.size(); ++i) {
       const risas::TumFrame& f = sequence.frames[i];
       const risas::TumImages images = risas::readTumImages(f);

@@ -1,0 +1,134 @@
+// The bag writers (risas_dataset_to_bag, risas_tum_to_bag) and what they
+// share, BagWriter: a complete bag, or one line of error, never an abort.
+#include "../src/ros/bag_frames.hpp"
+
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace risas_ros {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ToolRun {
+  int exit_code;
+  std::string output;
+};
+
+// The tool's run, its output and errors together; `shell` runs before it in
+// the same shell (a limit for the tool alone).
+ToolRun run(const std::string& command_line, const fs::path& log, const std::string& shell = "") {
+  const std::string command = shell + std::string(RISAS_BIN_DIR) + "/" + command_line;
+  const int status = std::system(("sh -c \"" + command + "\" > " + log.string() + " 2>&1").c_str());
+  std::stringstream text;
+  text << std::ifstream(log).rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+class BagTools : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(dir);
+    const ToolRun r = run("risas_render_synthetic --out " + (dir / "sequence").string() + " --frames 2", dir / "log");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  // /dev/full under a name of ours: it opens, and every write to it fails
+  // as on a full disk.
+  std::string full(const std::string& name) const {
+    fs::create_symlink("/dev/full", dir / name);
+    return (dir / name).string();
+  }
+  const fs::path dir = fs::temp_directory_path() / ("risas_bag_tools_" + std::to_string(::getpid()));
+};
+
+TEST_F(BagTools, WriteEveryFrameOrFailInOneLine) {
+  const std::string written = (dir / "written.bag").string();
+  const ToolRun ok = run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + written, dir / "log");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  rosbag::Bag bag(written, rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  EXPECT_EQ(view.size(), 6u);  // two frames, three topics each
+  const std::vector<const rosbag::ConnectionInfo*> topics = view.getConnections();
+  EXPECT_EQ(topics.size(), 3u);
+
+  // A bag that cannot even take its header (/dev/full: every write fails).
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const ToolRun failed =
+      run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + full("full.bag"), dir / "log");
+  EXPECT_EQ(failed.exit_code, 1) << failed.output;  // an abort was 134
+  EXPECT_EQ(failed.output.rfind("risas_dataset_to_bag: error: cannot write bag " + (dir / "full.bag").string() + ": ", 0),
+            0u)
+      << failed.output;
+  EXPECT_EQ(std::count(failed.output.begin(), failed.output.end(), '\n'), 1) << failed.output;
+}
+
+// While it lives, files this process writes stop at `bytes`: a write
+// beyond fails with EFBIG (SIGXFSZ ignored), as a disk filling up part-way
+// through a file fails. The limit and the signal's action are restored.
+struct FileSizeLimit {
+  explicit FileSizeLimit(rlim_t bytes) {
+    ::getrlimit(RLIMIT_FSIZE, &saved);
+    rlimit limited = saved;
+    limited.rlim_cur = bytes;
+    ::setrlimit(RLIMIT_FSIZE, &limited);
+    previous_action = std::signal(SIGXFSZ, SIG_IGN);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, previous_action);
+  }
+  rlimit saved{};
+  void (*previous_action)(int) = SIG_DFL;
+};
+
+TEST_F(BagTools, AWriterThatFailsPartWayReportsItAndIsDestroyedWithoutAnAbort) {
+  sensor_msgs::Image image;
+  image.data.resize(1 << 20);  // beyond rosbag's chunk: written to the file at once
+  const std::string path = (dir / "cut.bag").string();
+  std::string said;
+  {
+    const FileSizeLimit limit(256 * 1024);
+    {
+      BagWriter bag(path);  // its header fits
+      try {
+        bag.write("image", ros::Time(1.0), image);
+        bag.close();
+      } catch (const risas::InputError& e) {
+        said = e.what();
+      }
+      // A second use says the bag was given up; its destructor, after the
+      // failure, does not close it again (rosbag's would throw, and abort).
+      EXPECT_THROW(bag.close(), risas::InputError);
+    }
+  }
+  EXPECT_EQ(said.rfind("cannot write bag " + path + ": ", 0), 0u) << said;
+  EXPECT_LE(fs::file_size(path), 256u * 1024u);
+}
+
+TEST_F(BagTools, AFileThatFailsPartWayStopsTheToolInOneLine) {
+  // The shell's limit (in 512-byte blocks) with SIGXFSZ ignored, for the
+  // tool alone: its frames' first megabyte fails to be written.
+  const std::string path = (dir / "cut.bag").string();
+  const ToolRun r = run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + path,
+                        dir / "log", "trap '' XFSZ; ulimit -f 512; exec ");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output.rfind("risas_dataset_to_bag: error: cannot write bag " + path + ": ", 0), 0u) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+}  // namespace
+}  // namespace risas_ros
