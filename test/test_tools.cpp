@@ -1,6 +1,7 @@
 // The command-line tools end to end, as a user runs them, on a synthetic
 // sequence that risas_render_synthetic writes in the dataset's layout.
 #include "risas/io.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <Eigen/Geometry>
 
@@ -218,6 +219,26 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   }
   const ToolRun no_frames = run(common + " --out " + file("none.txt") + " --max-frames 0");
   EXPECT_EQ(no_frames.exit_code, 2) << no_frames.output;
+}
+
+// The trajectory is the result: a sequence too short to score (two frames
+// with ground truth) still gets it, with a line saying why there is no ATE,
+// and an RPE over a gap no two frames span says so rather than printing 0.
+TEST_F(Tools, OdometryWritesWhatItCannotScoreAndSaysWhy) {
+  const std::string common = "risas_odometry --intrinsics " + file("camera-intrinsics.txt");
+  ToolRun r = run(common + " --tum " + tumFolder(2).string() + " --out " + file("two.txt") + " --ransac-seeds 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("trajectory written to " + file("two.txt")), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), 2 have it"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("ATE RMSE"), std::string::npos) << r.output;
+  EXPECT_EQ(readTumTrajectory(file("two.txt")).size(), 2u);
+  r = run(common + " --tum " + tumFolder(3).string() + " --out " + file("gap.txt") + " --delta 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ATE RMSE "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("RPE (3 frame): no two frames with ground truth that far apart"), std::string::npos)
+      << r.output;
 }
 
 // The same odometry on ORB's features, and on ORB's strongest keypoint of

@@ -180,9 +180,13 @@ int main(int argc, char** argv) {
       }
       const risas::eval::AssociatedTrajectory all_frames =
           scored ? risas::eval::associate(trajectory, truth) : risas::eval::AssociatedTrajectory();
+      // The trajectory is the result; the score, which groundtruth.txt's
+      // presence asks for, needs three frames with ground truth.
+      const size_t with_truth = all_frames.estimate.size();
+      const bool scorable = scored && with_truth >= 3;
       const risas::eval::TrajectoryError e =
-          scored ? risas::eval::trajectoryError(all_frames, delta) : risas::eval::TrajectoryError();
-      ates.push_back(e.ate_rmse);
+          scorable ? risas::eval::trajectoryError(all_frames, delta) : risas::eval::TrajectoryError();
+      if (scorable) ates.push_back(e.ate_rmse);
       if (k > 0) continue;
       if (write_frames) risas::writeTextFile(args.get("frames"), frames_csv.str(), "frame table");
       risas::writeTumTrajectory(out, trajectory);
@@ -190,15 +194,23 @@ int main(int argc, char** argv) {
                 << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes()
                 << " keyframes; trajectory written to " << out << "\n";
       if (!scored) continue;
+      if (!scorable) {
+        std::cout << "Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), " << with_truth
+                  << " have it\n";
+        continue;
+      }
       std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
-                << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n"
-                << "RPE (" << delta << " frame) translation RMSE " << e.rpe_translation_rmse
-                << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
-                << e.rpe_pairs << " pairs\n";
+                << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n";
+      if (e.rpe_pairs == 0) {
+        std::cout << "RPE (" << delta << " frame): no two frames with ground truth that far apart\n";
+      } else {
+        std::cout << "RPE (" << delta << " frame) translation RMSE " << e.rpe_translation_rmse << " m, rotation RMSE "
+                  << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over " << e.rpe_pairs << " pairs\n";
+      }
       printCovarianceConsistency(risas::eval::associate(tracked, truth), tracked_covariances);
       printMotionConsistency(all_frames, motions);
     }
-    if (scored && seeds > 1) {
+    if (!ates.empty() && seeds > 1) {
       // One seed is one draw: where inliers are few, which keyframe poses
       // RANSAC finds is luck, and the chain carries it (docs/odometry.md).
       const auto [lowest, highest] = std::minmax_element(ates.begin(), ates.end());
