@@ -53,11 +53,17 @@ def window_id(name, env, seconds):
     return None
 
 
+class WindowGone(Exception):
+    pass
+
+
 def grab(window, env, keep_as=None):
     """The window's pixels as (width, height, RGB bytes), read off the screen
     (a Qt window's own buffer is not its picture without a compositor)."""
     geometry = dict(line.split("=") for line in subprocess.run(
         ["xdotool", "getwindowgeometry", "--shell", window], capture_output=True, text=True, env=env).stdout.split())
+    if "WIDTH" not in geometry:  # the window is gone: its program died (the launch's output says how)
+        raise WindowGone("window %s is gone" % window)
     width, height = int(geometry["WIDTH"]), int(geometry["HEIGHT"])
     crop = ["import", "-window", "root", "-crop", "%dx%d+%s+%s" % (width, height, geometry["X"], geometry["Y"]), "+repage"]
     pixels = subprocess.run(crop + ["-depth", "8", "rgb:-"], capture_output=True, env=env, check=True).stdout
@@ -109,7 +115,10 @@ class DemoWindows(unittest.TestCase):
         """The window's pixels once `shows(width, height, pixels)` holds (60 s at most)."""
         end = time.time() + 60
         while True:
-            shot = grab(window, self.env)
+            try:
+                shot = grab(window, self.env)
+            except WindowGone as gone:
+                self.fail("%s\n%s" % (gone, self.output()))
             if shows(*shot) or time.time() > end:
                 break
             time.sleep(2)
