@@ -3,9 +3,12 @@
 #include <OpenNI.h>
 
 #include <atomic>
+#include <cctype>
+#include <charconv>
 #include <chrono>
 #include <mutex>
 #include <sstream>
+#include <system_error>
 
 namespace risas_ros {
 namespace {
@@ -32,7 +35,7 @@ std::string describe(const openni::DeviceInfo& info) {
   return std::string(info.getName()) + " (" + info.getVendor() + ") at " + info.getUri();
 }
 
-class OpenNI2Device : public RgbdDevice, public openni::OpenNI::DeviceDisconnectedListener {
+class OpenNI2Device final : public RgbdDevice, public openni::OpenNI::DeviceDisconnectedListener {
  public:
   explicit OpenNI2Device(const std::string& uri) : uri_(uri) {
     if (device_.open(uri.c_str()) != openni::STATUS_OK) throw DeviceError("cannot open " + uri + ": " + lastError());
@@ -158,6 +161,18 @@ std::vector<std::string> listOpenNI2Devices() {
   return names;
 }
 
+int deviceNumberOf(const std::string& device_id) {
+  int n = 0;
+  const char* first = device_id.data() + 1;
+  const char* last = device_id.data() + device_id.size();
+  const auto [end, error] = std::from_chars(first, last, n);
+  if (device_id.empty() || device_id[0] != '#' || first == last || !std::isdigit(static_cast<unsigned char>(*first)) ||
+      error != std::errc() || end != last || n < 1) {
+    throw DeviceError("device_id " + device_id + " is not #N, the N-th device found (N = 1, 2, ...)");
+  }
+  return n;
+}
+
 std::unique_ptr<RgbdDevice> openOpenNI2Device(const std::string& device_id) {
   const std::vector<openni::DeviceInfo> devices = enumerate();
   const auto found = [&]() {
@@ -174,8 +189,8 @@ std::unique_ptr<RgbdDevice> openOpenNI2Device(const std::string& device_id) {
   }
   if (device_id.empty()) return std::make_unique<OpenNI2Device>(devices.front().getUri());
   if (device_id[0] == '#') {
-    const int n = std::atoi(device_id.c_str() + 1);
-    if (n < 1 || n > static_cast<int>(devices.size())) {
+    const int n = deviceNumberOf(device_id);
+    if (n > static_cast<int>(devices.size())) {
       throw DeviceError("device_id " + device_id + " is out of range; OpenNI2 found " + found());
     }
     return std::make_unique<OpenNI2Device>(devices[static_cast<size_t>(n - 1)].getUri());

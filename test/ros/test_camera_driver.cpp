@@ -1,6 +1,7 @@
 // The camera nodelet's logic with a fake device: registration and sync flags,
 // streaming, encodings, frame_ids, stamps, intrinsics, errors. No hardware.
 #include "risas/ros/conversions.hpp"
+#include "risas/ros/openni2_device.hpp"
 #include "risas/ros/rgbd_camera_driver.hpp"
 #include "risas/synthetic_scene.hpp"
 
@@ -210,6 +211,23 @@ TEST(CameraDriver, RejectsAnImpossibleMode) {
   CameraSettings settings;
   settings.mode.fps = 0;
   EXPECT_THROW(Harness h(settings), DeviceError);
+}
+
+// ~device_id "#N" picks the N-th device: N is read whole and checked, so a
+// typo is refused rather than read as its leading digits ("#2x" was device
+// 2) and a huge N is refused rather than overflowing (atoi's undefined
+// behaviour).
+TEST(OpenNI2DeviceId, NumberIsWholeAndFromOne) {
+  EXPECT_EQ(deviceNumberOf("#1"), 1);
+  EXPECT_EQ(deviceNumberOf("#12"), 12);
+  for (const char* bad : {"#", "#0", "#-1", "#+2", "# 2", "#2x", "#2.0", "#99999999999", "2"}) {
+    try {
+      deviceNumberOf(bad);
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const DeviceError& e) {
+      EXPECT_EQ(std::string(e.what()), std::string("device_id ") + bad + " is not #N, the N-th device found (N = 1, 2, ...)");
+    }
+  }
 }
 
 }  // namespace

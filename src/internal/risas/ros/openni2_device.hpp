@@ -19,4 +19,8 @@ std::vector<std::string> listOpenNI2Devices();
 // when nothing matches.
 std::unique_ptr<RgbdDevice> openOpenNI2Device(const std::string& device_id);
 
+// N of a device_id "#N": 1 or more, all digits, or DeviceError naming it
+// ("#2x", "#0", "#99999999999" are not N-th devices).
+int deviceNumberOf(const std::string& device_id);
+
 }  // namespace risas_ros
