@@ -43,15 +43,17 @@ TEST(ParamsFile, RoundTripsEveryField) {
   params.descriptor.gamma = 0.7;
   params.match.cross_check = true;
   params.motion.seed = 77;
-  params.save(dir.file("p.yml"));
-  const RisasParams loaded = RisasParams::load(dir.file("p.yml"));
-  EXPECT_DOUBLE_EQ(loaded.detector.tau, 0.65);
-  EXPECT_EQ(loaded.detector.max_keypoints, 321);
-  EXPECT_EQ(loaded.descriptor.n_pie, 12);
-  EXPECT_DOUBLE_EQ(loaded.descriptor.gamma, 0.7);
-  EXPECT_TRUE(loaded.match.cross_check);
-  EXPECT_EQ(loaded.motion.seed, 77u);
-  EXPECT_EQ(loaded.descriptor.n_bin, RisasParams().descriptor.n_bin);
+  for (const char* name : {"p.yml", "p.json", "p.yml.gz", "p.xml.gz"}) {  // FileStorage's formats, gzip too
+    params.save(dir.file(name));
+    const RisasParams loaded = RisasParams::load(dir.file(name));
+    EXPECT_DOUBLE_EQ(loaded.detector.tau, 0.65) << name;
+    EXPECT_EQ(loaded.detector.max_keypoints, 321) << name;
+    EXPECT_EQ(loaded.descriptor.n_pie, 12) << name;
+    EXPECT_DOUBLE_EQ(loaded.descriptor.gamma, 0.7) << name;
+    EXPECT_TRUE(loaded.match.cross_check) << name;
+    EXPECT_EQ(loaded.motion.seed, 77u) << name;
+    EXPECT_EQ(loaded.descriptor.n_bin, RisasParams().descriptor.n_bin) << name;
+  }
 }
 
 TEST(ParamsFile, PartialFileKeepsDefaultsAndBadFilesAreErrors) {

@@ -90,5 +90,8 @@ Features readFeatures(const std::string& path);
 // full disk left a truncated file and the tool said it had written it. The
 // library's and the tools' files are written through here.
 void writeTextFile(const std::string& path, const std::string& text, const std::string& what);
+// A file's bytes, gunzipped when it is gzip (whatever its name), or InputError
+// naming `what`, the path and the system's reason.
+std::string readTextFile(const std::string& path, const std::string& what);
 
 }  // namespace risas

@@ -383,4 +383,22 @@ void writeTextFile(const std::string& path, const std::string& text, const std::
   if (!closed) throw failed(close_error);
 }
 
+std::string readTextFile(const std::string& path, const std::string& what) {
+  const auto failed = [&](int error) {
+    return InputError("cannot read " + what + " " + path + ": " +
+                      (error != 0 ? std::strerror(error) : "the read failed"));
+  };
+  errno = 0;
+  gzFile file = gzopen(path.c_str(), "rb");  // reads a file that is not gzip as it is
+  if (file == nullptr) throw failed(errno);
+  std::string text;
+  char buffer[1 << 16];
+  int got = 0;
+  while ((got = gzread(file, buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<size_t>(got));
+  const int error = errno;
+  gzclose(file);
+  if (got < 0) throw failed(error);
+  return text;
+}
+
 }  // namespace risas

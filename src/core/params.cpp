@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -243,7 +242,7 @@ RisasParams RisasParams::load(const std::string& path) {
     if (!file || std::filesystem::is_directory(path, no_status)) {
       throw std::runtime_error("cannot open parameter file " + path);
     }
-    std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::string text = readTextFile(path, "parameter file");  // gzip too, as FileStorage reads it
     added_lines = withYamlDirective(text) ? 1 : 0;
     cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
     params.read(fs.root());
