@@ -1,5 +1,7 @@
 // The command-line tools end to end, as a user runs them, on a synthetic
 // sequence that risas_render_synthetic writes in the dataset's layout.
+#include "tool_run.hpp"
+
 #include "risas/io.hpp"
 #include "risas/tum_sequence.hpp"
 
@@ -25,20 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
-  int exit_code;
-  std::string output;
-};
+using test::ToolRun;
 
-ToolRun run(const std::string& command_line) {
-  const fs::path log = fs::temp_directory_path() / ("risas_tool_" + std::to_string(::getpid()) + ".log");
-  const int status = std::system((std::string(RISAS_BIN_DIR) + "/" + command_line + " > " + log.string() + " 2>&1").c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  fs::remove(log);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
-}
+ToolRun run(const std::string& command_line) { return test::runTool(command_line); }
 
 class Tools : public ::testing::Test {
  protected:
@@ -324,12 +315,7 @@ TEST_F(Tools, ARecordingsFrameWithoutDepthIsNamed) {
 // with a short file; standard output likewise.
 TEST_F(Tools, AFullDiskIsAnErrorNotASuccess) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  const auto full = [](const std::string& name) {
-    const fs::path link = dir / name;
-    fs::remove(link);
-    fs::create_symlink("/dev/full", link);
-    return link.string();
-  };
+  const auto full = [](const std::string& name) { return test::fullDiskAt(dir / name); };
   const std::string extract = "risas_extract" + frameArgs("", 1) + " --intrinsics " + file("camera-intrinsics.txt");
   for (const char* name : {"full.yml", "full.yml.gz"}) {
     const ToolRun r = run(extract + " --out " + full(name));

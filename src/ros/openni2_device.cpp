@@ -162,14 +162,16 @@ std::vector<std::string> listOpenNI2Devices() {
 }
 
 int deviceNumberOf(const std::string& device_id) {
-  int n = 0;
-  const char* first = device_id.data() + 1;
-  const char* last = device_id.data() + device_id.size();
-  const auto [end, error] = std::from_chars(first, last, n);
-  if (device_id.empty() || device_id[0] != '#' || first == last || !std::isdigit(static_cast<unsigned char>(*first)) ||
-      error != std::errc() || end != last || n < 1) {
-    throw DeviceError("device_id " + device_id + " is not #N, the N-th device found (N = 1, 2, ...)");
+  const auto refused = [&] {
+    return DeviceError("device_id " + device_id + " is not #N, the N-th device found (N = 1, 2, ...)");
+  };
+  if (device_id.size() < 2 || device_id[0] != '#' || !std::isdigit(static_cast<unsigned char>(device_id[1]))) {
+    throw refused();
   }
+  int n = 0;
+  const char* last = device_id.data() + device_id.size();
+  const auto [end, error] = std::from_chars(device_id.data() + 1, last, n);
+  if (error != std::errc() || end != last || n < 1) throw refused();
   return n;
 }
 

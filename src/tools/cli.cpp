@@ -136,8 +136,8 @@ void requireWritable(const std::string& path) {
 int runTool(const char* tool, const std::function<int()>& body) {
   try {
     const int code = body();
-    // What a tool prints is its result too: a full disk or a closed pipe
-    // under its standard output is a failure, not a success.
+    // What a tool prints is its result too: standard output on a full disk
+    // is a failure, not a success.
     errno = 0;
     if (!std::cout.flush()) {
       throw InputError(std::string("cannot write standard output") + (errno ? std::string(": ") + std::strerror(errno) : ""));

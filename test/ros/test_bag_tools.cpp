@@ -1,6 +1,7 @@
 // The bag writers (risas_dataset_to_bag, risas_tum_to_bag) and what they
 // share, BagWriter: a complete bag, or one line of error, never an abort.
 #include "../src/ros/bag_frames.hpp"
+#include "tool_run.hpp"
 
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
@@ -8,14 +9,10 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <csignal>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 namespace risas_ros {
@@ -23,41 +20,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
-  int exit_code;
-  std::string output;
-};
+using risas::test::ToolRun;
 
-// The tool's run, its output and errors together; `shell` runs before it in
-// the same shell (a limit for the tool alone).
-ToolRun run(const std::string& command_line, const fs::path& log, const std::string& shell = "") {
-  const std::string command = shell + std::string(RISAS_BIN_DIR) + "/" + command_line;
-  const int status = std::system(("sh -c \"" + command + "\" > " + log.string() + " 2>&1").c_str());
-  std::stringstream text;
-  text << std::ifstream(log).rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+ToolRun run(const std::string& command_line, const std::string& shell = "") {
+  return risas::test::runTool(command_line, shell);
 }
 
 class BagTools : public ::testing::Test {
  protected:
   void SetUp() override {
     fs::create_directories(dir);
-    const ToolRun r = run("risas_render_synthetic --out " + (dir / "sequence").string() + " --frames 2", dir / "log");
+    const ToolRun r = run("risas_render_synthetic --out " + (dir / "sequence").string() + " --frames 2");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   void TearDown() override { fs::remove_all(dir); }
-  // /dev/full under a name of ours: it opens, and every write to it fails
-  // as on a full disk.
-  std::string full(const std::string& name) const {
-    fs::create_symlink("/dev/full", dir / name);
-    return (dir / name).string();
-  }
+  std::string full(const std::string& name) const { return risas::test::fullDiskAt(dir / name); }
   const fs::path dir = fs::temp_directory_path() / ("risas_bag_tools_" + std::to_string(::getpid()));
 };
 
 TEST_F(BagTools, WriteEveryFrameOrFailInOneLine) {
   const std::string written = (dir / "written.bag").string();
-  const ToolRun ok = run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + written, dir / "log");
+  const ToolRun ok = run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + written);
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   rosbag::Bag bag(written, rosbag::bagmode::Read);
   rosbag::View view(bag);
@@ -68,7 +51,7 @@ TEST_F(BagTools, WriteEveryFrameOrFailInOneLine) {
   // A bag that cannot even take its header (/dev/full: every write fails).
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   const ToolRun failed =
-      run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + full("full.bag"), dir / "log");
+      run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + full("full.bag"));
   EXPECT_EQ(failed.exit_code, 1) << failed.output;  // an abort was 134
   EXPECT_EQ(failed.output.rfind("risas_dataset_to_bag: error: cannot write bag " + (dir / "full.bag").string() + ": ", 0),
             0u)
@@ -124,7 +107,7 @@ TEST_F(BagTools, AFileThatFailsPartWayStopsTheToolInOneLine) {
   // tool alone: its frames' first megabyte fails to be written.
   const std::string path = (dir / "cut.bag").string();
   const ToolRun r = run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + path,
-                        dir / "log", "trap '' XFSZ; ulimit -f 512; exec ");
+                        "trap '' XFSZ; ulimit -f 512; exec ");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(r.output.rfind("risas_dataset_to_bag: error: cannot write bag " + path + ": ", 0), 0u) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;

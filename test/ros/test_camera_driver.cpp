@@ -220,7 +220,7 @@ TEST(CameraDriver, RejectsAnImpossibleMode) {
 TEST(OpenNI2DeviceId, NumberIsWholeAndFromOne) {
   EXPECT_EQ(deviceNumberOf("#1"), 1);
   EXPECT_EQ(deviceNumberOf("#12"), 12);
-  for (const char* bad : {"#", "#0", "#-1", "#+2", "# 2", "#2x", "#2.0", "#99999999999", "2"}) {
+  for (const char* bad : {"", "#", "#0", "#-1", "#+2", "# 2", "#2x", "#2.0", "#99999999999", "2"}) {
     try {
       deviceNumberOf(bad);
       ADD_FAILURE() << bad << " was taken";
