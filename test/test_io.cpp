@@ -331,6 +331,37 @@ TEST(WrittenFiles, AreWholeOrAnErrorNamingTheFileAndTheReason) {
             "cannot write parameter file /dev/full: No space left on device");
 }
 
+// Images likewise: cv::imwrite returns a bare false (and libpng prints its
+// own line), true for a small image on a full disk, or throws for an
+// extension it has no writer for.
+TEST(WrittenImages, AreWholeOrAnErrorNamingTheFileAndTheReason) {
+  const TempDir dir;
+  const cv::Mat image(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
+  writeImage(dir.file("plain.png"), image, "test image");
+  EXPECT_EQ(cv::norm(cv::imread(dir.file("plain.png")), image, cv::NORM_INF), 0.0);
+  requireImageWriter(dir.file("fine.jpg"), "test image");
+  for (const char* name : {"image.xyz", "image"}) {
+    const std::string expected = "cannot write test image " + dir.file(name) + ": OpenCV has no image writer for " +
+                                 (std::string(name) == "image" ? "a name without an extension" : "'.xyz'") +
+                                 " (.png, .jpg, .tif, ...)";
+    EXPECT_EQ(test::inputErrorOf([&] { requireImageWriter(dir.file(name), "test image"); }), expected);
+    EXPECT_EQ(test::inputErrorOf([&] { writeImage(dir.file(name), image, "test image"); }), expected);
+    EXPECT_FALSE(fs::exists(dir.file(name)));
+  }
+  const std::string missing = test::inputErrorOf([&] { writeImage(dir.file("no/such/image.png"), image, "test image"); });
+  EXPECT_EQ(missing.rfind("cannot write test image " + dir.file("no/such/image.png") + ": ", 0), 0u) << missing;
+  EXPECT_EQ(missing.find('\n'), std::string::npos) << missing;
+
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  fs::create_symlink("/dev/full", dir.file("full.png"));
+  const cv::Mat large(480, 640, CV_8UC3);
+  cv::randu(large, 0, 256);  // beyond any buffer: fails at the write, not only at the close
+  for (const cv::Mat& written : {image, large}) {
+    EXPECT_EQ(test::inputErrorOf([&] { writeImage(dir.file("full.png"), written, "test image"); }),
+              "cannot write test image " + dir.file("full.png") + ": No space left on device");
+  }
+}
+
 TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {
   const TempDir dir;
   Features f;

@@ -348,6 +348,78 @@ TEST_F(Tools, AFullDiskIsAnErrorNotASuccess) {
   EXPECT_EQ(said.str(), "risas_extract: error: cannot write standard output: No space left on device\n");
 }
 
+// Each option is taken once and none is ignored in silence: an option
+// given twice, both ways of giving the intrinsics, an option of the other
+// mode, or an option where its value should be is wrong usage, exit 2, in
+// one line naming it, before any work.
+TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
+  const std::string extract = "risas_extract" + frameArgs("", 1);
+  const std::string intrinsics = " --intrinsics " + file("camera-intrinsics.txt");
+  const std::string numbers = " --fx 570 --fy 570 --cx 319.5 --cy 239.5";
+  const std::map<std::string, std::string> refused = {
+      {extract + intrinsics + " --fx 300 --out " + file("o.yml"),
+       "risas_extract: give --intrinsics K.txt or --fx --fy --cx --cy, not both"},
+      {extract + " --intrinsics --out " + file("o.yml"),
+       "risas_extract: --intrinsics needs a value (K.txt), not the option --out"},
+      {extract + intrinsics + " --out " + file("o.yml") + " --out=" + file("p.yml"),
+       "risas_extract: --out is given twice ('" + file("o.yml") + "', then '" + file("p.yml") + "')"},
+      {"risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + intrinsics + " --cross-check --cross-check",
+       "risas_match: --cross-check is given twice"},
+      {"risas_evaluate --data " + dir.string() + " --gaps 2", "risas_evaluate: --gaps does not apply with --data"},
+      {"risas_evaluate --data " + dir.string() + " --cy 2",
+       "risas_evaluate: --cy does not apply with --data: its camera-intrinsics.txt is read"},
+      {"risas_evaluate --tum " + tumFolder(3).string() + numbers + " --sequences rotate",
+       "risas_evaluate: --sequences does not apply with --tum"},
+      {"risas_evaluate --data " + dir.string() + " --study tau --methods ORB",
+       "risas_evaluate: --methods does not apply with --study: the study's methods are run"},
+      {"risas_benchmark" + intrinsics, "risas_benchmark: --intrinsics does not apply to the synthetic frames"},
+      {"risas_benchmark --data " + dir.string() + numbers,
+       "risas_benchmark: --fx does not apply with --data: its camera-intrinsics.txt is read"},
+  };
+  for (const auto& [command, message] : refused) {
+    const ToolRun r = run(command);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_EQ(r.output.rfind(message + " (see ", 0), 0u) << command << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << command << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(file("o.yml")));
+  EXPECT_FALSE(fs::exists(file("p.yml")));
+  // A value may still start with dashes when it is no option's name.
+  const ToolRun r = test::runTool(extract + intrinsics + " --out --dashes.yml", "cd " + dir.string() + " && ");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "--dashes.yml"));
+}
+
+// Outputs that cannot be written are found before the work: an image name
+// OpenCV has no writer for, a file where the output folder should be.
+TEST_F(Tools, OutputsThatCannotBeWrittenAreFoundFirst) {
+  std::ofstream(file("a_file")) << "x";
+  const std::map<std::string, std::string> failing = {
+      {"risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + " --intrinsics " + file("camera-intrinsics.txt") +
+           " --overlay " + file("overlay.xyz"),
+       "risas_match: error: cannot write overlay " + file("overlay.xyz") +
+           ": OpenCV has no image writer for '.xyz' (.png, .jpg, .tif, ...)"},
+      {"risas_render_synthetic --out " + file("a_file"),
+       "risas_render_synthetic: error: cannot make folder " + file("a_file") + ": a file of that name is there"},
+      {"risas_evaluate --data " + dir.string() + " --out " + file("a_file"),
+       "risas_evaluate: error: cannot make folder " + file("a_file") + ": a file of that name is there"},
+  };
+  for (const auto& [command, message] : failing) {
+    const ToolRun r = run(command);
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.output;
+    EXPECT_EQ(r.output, message + "\n") << command;
+  }
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const ToolRun r = run("risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + " --intrinsics " +
+                        file("camera-intrinsics.txt") + " --overlay " + test::fullDiskAt(dir / "full.png"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("\nrisas_match: error: cannot write overlay " + file("full.png") +
+                          ": No space left on device\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("overlay written"), std::string::npos) << r.output;
+}
+
 TEST_F(Tools, WrongUsageAndBadInputFailClearly) {
   ToolRun r = run("risas_extract --rgb x.png");
   EXPECT_EQ(r.exit_code, 2);

@@ -90,6 +90,15 @@ Features readFeatures(const std::string& path);
 // full disk left a truncated file and the tool said it had written it. The
 // library's and the tools' files are written through here.
 void writeTextFile(const std::string& path, const std::string& text, const std::string& what);
+// Writes `image` whole in the format of the path's extension (as cv::imwrite
+// does), or throws InputError naming `what`, the path and the reason:
+// OpenCV's missing writer for the extension, the encoder's complaint, or the
+// system's ("No space left on device"). cv::imwrite returns a bare false, or
+// true for a small image on a full disk.
+void writeImage(const std::string& path, const cv::Mat& image, const std::string& what);
+// InputError, as writeImage's, unless OpenCV has a writer for the path's
+// extension: for tools that check their outputs before the work.
+void requireImageWriter(const std::string& path, const std::string& what);
 // A file's bytes, gunzipped when it is gzip (whatever its name), or InputError
 // naming `what`, the path and the system's reason.
 std::string readTextFile(const std::string& path, const std::string& what);

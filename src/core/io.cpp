@@ -28,37 +28,41 @@ bool endsWith(const std::string& text, const std::string& end) {
 }
 
 // What a call writes to the process's stderr (file descriptor 2) while it
-// runs, captured instead of shown: libpng reports a corrupt file there
-// itself, before OpenCV returns. One call at a time (stderr is one).
+// runs, captured instead of shown, with OpenCV's log silenced: libpng
+// reports a corrupt file or a failed write there itself, before OpenCV
+// returns. One call at a time (stderr is one).
 template <class F>
 std::string capturingStderr(F&& call) {
   static std::mutex mutex;
   const std::lock_guard<std::mutex> lock(mutex);
+  const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   std::fflush(stderr);
   std::FILE* sink = std::tmpfile();
   const int saved = sink ? ::dup(2) : -1;
-  if (saved < 0) {  // cannot capture: let it through
-    if (sink) std::fclose(sink);
-    call();
-    return {};
-  }
-  ::dup2(::fileno(sink), 2);
+  if (saved >= 0) ::dup2(::fileno(sink), 2);  // else it cannot capture: let it through
+  const auto restore = [&] {
+    std::fflush(stderr);
+    if (saved >= 0) {
+      ::dup2(saved, 2);
+      ::close(saved);
+    }
+    cv::utils::logging::setLogLevel(level);
+  };
   try {
     call();
   } catch (...) {
-    std::fflush(stderr);
-    ::dup2(saved, 2);
-    ::close(saved);
-    std::fclose(sink);
+    restore();
+    if (sink) std::fclose(sink);
     throw;
   }
-  std::fflush(stderr);
-  ::dup2(saved, 2);
-  ::close(saved);
-  std::string text(4096, '\0');
-  std::rewind(sink);
-  text.resize(std::fread(text.data(), 1, text.size(), sink));
-  std::fclose(sink);
+  restore();
+  std::string text;
+  if (saved >= 0) {
+    text.resize(4096);
+    std::rewind(sink);
+    text.resize(std::fread(text.data(), 1, text.size(), sink));
+  }
+  if (sink) std::fclose(sink);
   return text;
 }
 
@@ -68,7 +72,6 @@ cv::Mat readImage(const std::string& path, int flags, const char* what) {
   const std::string prefix = std::string("cannot read ") + what + " image " + path + ": ";
   if (!std::filesystem::is_regular_file(path)) throw InputError(prefix + "no such file");
   cv::Mat image;
-  const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   std::string said = capturingStderr([&] {
     try {
       image = cv::imread(path, flags);
@@ -76,7 +79,6 @@ cv::Mat readImage(const std::string& path, int flags, const char* what) {
       image.release();
     }
   });
-  cv::utils::logging::setLogLevel(level);
   if (!image.empty()) return image;
   said = said.substr(0, said.find('\n'));
   throw InputError(prefix + (said.empty() ? "not an image OpenCV can decode" : said));
@@ -381,6 +383,38 @@ void writeTextFile(const std::string& path, const std::string& text, const std::
   }
   if (!written) throw failed(write_error);
   if (!closed) throw failed(close_error);
+}
+
+void requireImageWriter(const std::string& path, const std::string& what) {
+  if (!cv::haveImageWriter(path)) {
+    const std::string extension = std::filesystem::path(path).extension().string();
+    throw InputError("cannot write " + what + " " + path + ": OpenCV has no image writer for " +
+                     (extension.empty() ? "a name without an extension" : "'" + extension + "'") +
+                     " (.png, .jpg, .tif, ...)");
+  }
+}
+
+void writeImage(const std::string& path, const cv::Mat& image, const std::string& what) {
+  requireImageWriter(path, what);
+  // Encoded in memory, then written with writeTextFile's checked writes:
+  // cv::imwrite does not check its fclose, so a small image on a full disk
+  // came out a success.
+  std::vector<uchar> bytes;
+  bool encoded = false;
+  std::string reason;
+  std::string said = capturingStderr([&] {
+    try {
+      encoded = cv::imencode(std::filesystem::path(path).extension().string(), image, bytes);
+    } catch (const cv::Exception& e) {
+      reason = e.err;
+    }
+  });
+  if (!encoded) {
+    said = said.substr(0, said.find('\n'));
+    if (reason.empty()) reason = said.empty() ? "the encoder failed" : said;
+    throw InputError("cannot write " + what + " " + path + ": " + reason);
+  }
+  writeTextFile(path, std::string(bytes.begin(), bytes.end()), what);
 }
 
 std::string readTextFile(const std::string& path, const std::string& what) {

@@ -51,10 +51,23 @@ Args::Args(int argc, char** argv, const std::string& synopsis, std::vector<Optio
       if (inline_value) throw UsageError("--" + arg + " takes no value");
       value = "1";
     } else if (!inline_value) {
-      if (i + 1 >= argc) throw UsageError("--" + arg + " needs a value (" + option->value_name + ")");
+      // The next word is the value unless it is one of the tool's options:
+      // "--intrinsics --out F" has lost its value, and taking "--out" for it
+      // would blame F instead.
+      const std::string next = i + 1 < argc ? argv[i + 1] : "";
+      const std::string next_name = next.rfind("--", 0) == 0 ? next.substr(2, next.find('=') - 2) : "";
+      if (i + 1 >= argc || (!next_name.empty() && find(next_name))) {
+        throw UsageError("--" + arg + " needs a value (" + option->value_name + ")" +
+                         (i + 1 < argc ? ", not the option " + next : ""));
+      }
       value = argv[++i];
     }
-    values_[arg] = value;
+    // Given twice, one of the two would be dropped in silence.
+    const auto [given, first] = values_.emplace(arg, value);
+    if (!first) {
+      throw UsageError("--" + arg + " is given twice" +
+                       (option->value_name.empty() ? "" : " ('" + given->second + "', then '" + value + "')"));
+    }
   }
   if (has("help")) {
     std::cout << synopsis << "\n\nOptions:\n";
@@ -92,12 +105,24 @@ int Args::getInt(const std::string& name, int fallback, int lo, int hi) const {
   return static_cast<int>(value);
 }
 
+void Args::refuse(const std::vector<std::string>& names, const std::string& context) const {
+  for (const std::string& name : names) {
+    if (has(name)) throw UsageError("--" + name + " does not apply " + context);
+  }
+}
+
 std::vector<Option> intrinsicsOptions() {
   return {{"intrinsics", "K.txt", "3x3 camera matrix in text (the dataset's camera-intrinsics.txt)"},
           {"fx", "F", "focal length x in pixels (instead of --intrinsics)"},
           {"fy", "F", "focal length y in pixels"},
           {"cx", "C", "principal point x in pixels"},
           {"cy", "C", "principal point y in pixels"}};
+}
+
+std::vector<std::string> intrinsicsOptionNames() {
+  std::vector<std::string> names;
+  for (const Option& o : intrinsicsOptions()) names.push_back(o.name);
+  return names;
 }
 
 Option depthUnitsOption() {
@@ -109,8 +134,13 @@ double depthUnitsFrom(const Args& args) { return args.getDouble("depth-units", k
 Option paramsOption() { return {"params", "P.yml", "parameter file (cv::FileStorage; see config/risas.yaml)"}; }
 
 Intrinsics intrinsicsFrom(const Args& args) {
-  if (args.has("intrinsics")) return readIntrinsicsFile(args.get("intrinsics"));
-  if (!args.has("fx")) throw UsageError("give --intrinsics K.txt or --fx --fy --cx --cy");
+  const bool numbers = args.has("fx") || args.has("fy") || args.has("cx") || args.has("cy");
+  if (args.has("intrinsics")) {
+    // Both ways at once would leave one of them unused, in silence.
+    if (numbers) throw UsageError("give --intrinsics K.txt or --fx --fy --cx --cy, not both");
+    return readIntrinsicsFile(args.get("intrinsics"));
+  }
+  if (!numbers) throw UsageError("give --intrinsics K.txt or --fx --fy --cx --cy");
   Intrinsics K(args.getDouble("fx"), args.getDouble("fy"), args.getDouble("cx"), args.getDouble("cy"));
   K.validate();
   return K;
@@ -131,6 +161,15 @@ void requireWritable(const std::string& path) {
   if (::access((exists ? file : dir).c_str(), W_OK) != 0) {
     throw InputError("cannot write " + path + ": " + (exists ? "the file" : "its folder") + " is not writable");
   }
+}
+
+void makeOutputFolder(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(dir, ec)) return;
+  if (fs::exists(dir, ec)) throw InputError("cannot make folder " + dir + ": a file of that name is there");
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError("cannot make folder " + dir + ": " + ec.message());
 }
 
 int runTool(const char* tool, const std::function<int()>& body) {

@@ -26,7 +26,8 @@ struct UsageError : std::runtime_error {
 
 class Args {
  public:
-  // Accepts --name value and --name=value; --help prints the usage and exits 0.
+  // Accepts --name value and --name=value, each option once; --help prints
+  // the usage and exits 0.
   Args(int argc, char** argv, const std::string& synopsis, std::vector<Option> options);
 
   bool has(const std::string& name) const { return values_.count(name) > 0; }
@@ -37,12 +38,17 @@ class Args {
   // A whole number within [lo, hi]: UsageError naming the option and the
   // range otherwise (checked before any cast, so 1e20 is refused, not cast).
   int getInt(const std::string& name, int fallback, int lo, int hi) const;
+  // UsageError naming the first of `names` that is given: an option that
+  // does not apply in the tool's mode (`context`, e.g. "with --data") would
+  // be ignored in silence.
+  void refuse(const std::vector<std::string>& names, const std::string& context) const;
 
  private:
   std::map<std::string, std::string> values_;
 };
 
-// The intrinsics given as --<prefix>intrinsics K.txt or as --fx --fy --cx --cy.
+// The intrinsics given as --intrinsics K.txt or as --fx --fy --cx --cy (not
+// both).
 Intrinsics intrinsicsFrom(const Args& args);
 // --params P.yml if given, else the defaults.
 RisasParams paramsFrom(const Args& args);
@@ -51,6 +57,7 @@ double depthUnitsFrom(const Args& args);
 // The options intrinsicsFrom, depthUnitsFrom and paramsFrom read, for a
 // tool's option list.
 std::vector<Option> intrinsicsOptions();
+std::vector<std::string> intrinsicsOptionNames();
 Option depthUnitsOption();
 Option paramsOption();
 
@@ -58,6 +65,10 @@ Option paramsOption();
 // writable, and the file, if there, is too. Tools check their outputs with
 // it before the work, not after.
 void requireWritable(const std::string& path);
+
+// Makes the folder `dir` and its parents unless `dir` is a folder already;
+// InputError "cannot make folder D: <reason>" otherwise (a file in the way).
+void makeOutputFolder(const std::string& dir);
 
 // The path of scripts/<name> for this tool: installed beside it (the
 // package's share/risas/scripts, found from the executable's own path), else

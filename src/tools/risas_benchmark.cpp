@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
     const int threads = args.getInt("threads", 1, 0, 1024);
     cv::setNumThreads(threads == 0 ? -1 : threads);
     if (args.has("data") && args.has("tum")) throw risas::cli::UsageError("give --data or --tum, not both");
+    if (!args.has("tum")) {
+      args.refuse(risas::cli::intrinsicsOptionNames(),
+                  args.has("data") ? "with --data: its camera-intrinsics.txt is read" : "to the synthetic frames");
+    }
     const std::vector<risas::RgbdFrame> frames =
         args.has("tum")    ? loadTumSequence(args.get("tum"), risas::cli::intrinsicsFrom(args), count)
         : args.has("data") ? loadSequence(args.get("data"), count)

@@ -121,12 +121,17 @@ int main(int argc, char** argv) {
         refit_name == "reprojection" ? risas::eval::PoseRefit::Reprojection : risas::eval::PoseRefit::Umeyama;
     const bool tum = args.has("tum");
     if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
-    const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
-    {  // the output folder, made and checked before hours of work
-      std::error_code ec;
-      std::filesystem::create_directories(out, ec);
-      risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
+    if (tum) {
+      args.refuse({"scenes", "sequences"}, "with --tum");
+    } else {
+      args.refuse({"gaps", "pair-stride"}, "with --data");
+      args.refuse(risas::cli::intrinsicsOptionNames(), "with --data: its camera-intrinsics.txt is read");
     }
+    if (args.has("study")) args.refuse({"methods"}, "with --study: the study's methods are run");
+    const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
+    // The output folder, made and checked before hours of work.
+    risas::cli::makeOutputFolder(out);
+    risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const risas::Intrinsics intrinsics = tum ? risas::cli::intrinsicsFrom(args) : risas::findIntrinsics(root);
 

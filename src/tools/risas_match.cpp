@@ -2,13 +2,10 @@
 #include "cli.hpp"
 
 #include "risas/io.hpp"
-#include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
 #include "risas/overlay.hpp"
 #include "risas/risas.hpp"
-
-#include <opencv2/imgcodecs.hpp>
 
 #include <Eigen/Geometry>
 
@@ -57,7 +54,10 @@ int main(int argc, char** argv) {
     params.match.ratio = args.getDouble("ratio", params.match.ratio);
     params.match.cross_check = params.match.cross_check || args.has("cross-check");
     params.validate();
-    if (args.has("overlay")) risas::cli::requireWritable(args.get("overlay"));
+    if (args.has("overlay")) {
+      risas::cli::requireWritable(args.get("overlay"));
+      risas::requireImageWriter(args.get("overlay"), "overlay");
+    }
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const double depth_units = risas::cli::depthUnitsFrom(args);
     // The ground truth read before the work, so that a bad file stops it.
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
               << matches.size() << " matches  " << motion.num_inliers << " inliers";
       const cv::Mat overlay = risas::drawMatchOverlay(frame1.gray(), f1.keypoints, frame2.gray(), f2.keypoints,
                                                       matches, motion.inliers, caption.str());
-      if (!cv::imwrite(args.get("overlay"), overlay)) throw risas::InputError("cannot write " + args.get("overlay"));
+      risas::writeImage(args.get("overlay"), overlay, "overlay");
       std::cout << "overlay written to " << args.get("overlay") << "\n";
     }
     std::cout << "summary: " << f1.keypoints.size() << " + " << f2.keypoints.size() << " features, "

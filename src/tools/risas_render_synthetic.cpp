@@ -3,11 +3,8 @@
 // camera-intrinsics.txt), so every tool runs without a camera or the dataset.
 #include "cli.hpp"
 
-#include "risas/errors.hpp"
 #include "risas/io.hpp"
 #include "risas/synthetic_scene.hpp"
-
-#include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
 #include <iomanip>
@@ -41,7 +38,7 @@ int main(int argc, char** argv) {
     const std::filesystem::path dir = args.get("out");
     const int frames = args.getInt("frames", 4, 1, 10000);
     const double step = args.getDouble("step-deg", 5.0) * CV_PI / 180.0;
-    std::filesystem::create_directories(dir);
+    risas::cli::makeOutputFolder(dir.string());
 
     const risas::SyntheticScene scene = risas::SyntheticScene::demo();
     const risas::Intrinsics K = risas::syntheticIntrinsics();
@@ -52,10 +49,8 @@ int main(int argc, char** argv) {
       if (k == 1) world_T_first = world_T_camera;
       const risas::SyntheticRender render = scene.render(K, cv::Size(640, 480), world_T_camera);
       const std::string n = std::to_string(k);
-      if (!cv::imwrite((dir / ("rgb_" + n + ".png")).string(), render.bgr) ||
-          !cv::imwrite((dir / ("depth_" + n + ".png")).string(), render.depth_mm)) {
-        throw risas::InputError("cannot write images into " + dir.string());
-      }
+      risas::writeImage((dir / ("rgb_" + n + ".png")).string(), render.bgr, "colour image");
+      risas::writeImage((dir / ("depth_" + n + ".png")).string(), render.depth_mm, "depth image");
       const Eigen::Isometry3d first_T_k = world_T_first.inverse() * world_T_camera;
       writeMatrix((dir / ("R1-" + n + ".txt")).string(), first_T_k.linear());
       writeMatrix((dir / ("T1-" + n + ".txt")).string(), first_T_k.translation());
