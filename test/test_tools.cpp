@@ -361,8 +361,8 @@ TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
        "risas_extract: give --intrinsics K.txt or --fx --fy --cx --cy, not both"},
       {extract + " --intrinsics --out " + file("o.yml"),
        "risas_extract: --intrinsics needs a value (K.txt), not the option --out"},
-      {extract + intrinsics + " --out " + file("o.yml") + " --out=" + file("p.yml"),
-       "risas_extract: --out is given twice ('" + file("o.yml") + "', then '" + file("p.yml") + "')"},
+      {extract + intrinsics + " --out " + file("o.yml") + " --out=" + file("o2.yml"),
+       "risas_extract: --out is given twice ('" + file("o.yml") + "', then '" + file("o2.yml") + "')"},
       {"risas_match" + frameArgs("1", 1) + frameArgs("2", 2) + intrinsics + " --cross-check --cross-check",
        "risas_match: --cross-check is given twice"},
       {"risas_evaluate --data " + dir.string() + " --gaps 2", "risas_evaluate: --gaps does not apply with --data"},
@@ -383,7 +383,7 @@ TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << command << ": " << r.output;
   }
   EXPECT_FALSE(fs::exists(file("o.yml")));
-  EXPECT_FALSE(fs::exists(file("p.yml")));
+  EXPECT_FALSE(fs::exists(file("o2.yml")));
   // A value may still start with dashes when it is no option's name.
   const ToolRun r = test::runTool(extract + intrinsics + " --out --dashes.yml", "cd " + dir.string() + " && ");
   EXPECT_EQ(r.exit_code, 0) << r.output;

@@ -1,5 +1,10 @@
 #include "risas/ros/node_params.hpp"
 
+#include "risas/params_fields.hpp"
+#include "risas/ros/conversions.hpp"
+
+#include <ros/param.h>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -67,21 +72,56 @@ std::string textValue(const std::string& name, XmlRpc::XmlRpcValue& value) {
   return static_cast<std::string>(value);
 }
 
-bool flagParam(const ros::NodeHandle& nh, const std::string& key, bool fallback) {
-  return fromServer(nh, key, fallback, flagValue);
+bool NodeParams::flag(const std::string& key, bool fallback) {
+  read_.insert(key);
+  return fromServer(pnh_, key, fallback, flagValue);
 }
 
-int intParam(const ros::NodeHandle& nh, const std::string& key, int fallback, int lo, int hi) {
-  return fromServer(nh, key, fallback, [&](const std::string& name, XmlRpc::XmlRpcValue& v) { return intValue(name, v, lo, hi); });
+int NodeParams::whole(const std::string& key, int fallback, int lo, int hi) {
+  read_.insert(key);
+  return fromServer(pnh_, key, fallback,
+                    [&](const std::string& name, XmlRpc::XmlRpcValue& v) { return intValue(name, v, lo, hi); });
 }
 
-double numberParam(const ros::NodeHandle& nh, const std::string& key, double fallback, double lo, double hi) {
-  return fromServer(nh, key, fallback,
+double NodeParams::number(const std::string& key, double fallback, double lo, double hi) {
+  read_.insert(key);
+  return fromServer(pnh_, key, fallback,
                     [&](const std::string& name, XmlRpc::XmlRpcValue& v) { return numberValue(name, v, lo, hi); });
 }
 
-std::string textParam(const ros::NodeHandle& nh, const std::string& key, const std::string& fallback) {
-  return fromServer(nh, key, fallback, textValue);
+std::string NodeParams::text(const std::string& key, const std::string& fallback) {
+  read_.insert(key);
+  return fromServer(pnh_, key, fallback, textValue);
+}
+
+risas::RisasParams NodeParams::risas() {
+  risas::RisasParams names;
+  risas::visitSections(names, [&](const char* section, const auto&) { read_.insert(section); });
+  return paramsFromServer(pnh_);
+}
+
+void NodeParams::readByOthers(const std::vector<std::string>& keys) { read_.insert(keys.begin(), keys.end()); }
+
+void NodeParams::refuseUnread() const {
+  std::vector<std::string> names;
+  if (!ros::param::getParamNames(names)) return;  // no master to ask: nothing to check against
+  const std::vector<std::string> unread = unreadNames(names, pnh_.getNamespace(), read_);
+  if (unread.empty()) return;
+  std::string known;
+  for (const std::string& name : read_) known += (known.empty() ? "" : ", ") + name;
+  throw std::invalid_argument("unknown parameter ~" + unread.front() + " (a typo?); this node reads " + known);
+}
+
+std::vector<std::string> unreadNames(const std::vector<std::string>& names, const std::string& ns,
+                                     const std::set<std::string>& read) {
+  const std::string prefix = ns == "/" ? ns : ns + "/";
+  std::set<std::string> unread;
+  for (const std::string& name : names) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string first = name.substr(prefix.size(), name.find('/', prefix.size()) - prefix.size());
+    if (!first.empty() && read.count(first) == 0) unread.insert(first);
+  }
+  return {unread.begin(), unread.end()};
 }
 
 }  // namespace risas_ros

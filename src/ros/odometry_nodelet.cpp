@@ -43,11 +43,13 @@ class OdometryNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     try {
-      params_ = paramsFromServer(pnh);
-      odom_frame_ = textParam(pnh, "odom_frame_id", "odom");
-      base_frame_ = textParam(pnh, "base_frame_id", "");
-      publish_tf_ = flagParam(pnh, "publish_tf", true);
-      path_length_ = intParam(pnh, "path_length", 10000, 0, 10000000);
+      NodeParams params(pnh);
+      params_ = params.risas();
+      odom_frame_ = params.text("odom_frame_id", "odom");
+      base_frame_ = params.text("base_frame_id", "");
+      publish_tf_ = params.flag("publish_tf", true);
+      path_length_ = params.whole("path_length", 10000, 0, 10000000);
+      params.refuseUnread();
     } catch (const std::exception& e) {
       NODELET_FATAL("odometry parameters rejected: %s", e.what());
       throw;

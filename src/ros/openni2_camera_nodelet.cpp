@@ -45,16 +45,18 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     std::string url;
     try {
-      device_id_ = textParam(pnh, "device_id", "");
-      settings_.mode = {intParam(pnh, "width", 640, 1, 10000), intParam(pnh, "height", 480, 1, 10000),
-                        intParam(pnh, "fps", 30, 1, 1000)};
-      settings_.depth_registration = flagParam(pnh, "depth_registration", true);
-      settings_.frame_sync = flagParam(pnh, "frame_sync", true);
-      settings_.rgb_frame_id = textParam(pnh, "rgb_frame_id", settings_.rgb_frame_id);
-      settings_.depth_frame_id = textParam(pnh, "depth_frame_id", settings_.depth_frame_id);
-      always_on_ = flagParam(pnh, "always_on", false);
-      reconnect_ = flagParam(pnh, "reconnect", true);
-      url = textParam(pnh, "camera_info_url", "");
+      NodeParams params(pnh);
+      device_id_ = params.text("device_id", "");
+      settings_.mode = {params.whole("width", 640, 1, 10000), params.whole("height", 480, 1, 10000),
+                        params.whole("fps", 30, 1, 1000)};
+      settings_.depth_registration = params.flag("depth_registration", true);
+      settings_.frame_sync = params.flag("frame_sync", true);
+      settings_.rgb_frame_id = params.text("rgb_frame_id", settings_.rgb_frame_id);
+      settings_.depth_frame_id = params.text("depth_frame_id", settings_.depth_frame_id);
+      always_on_ = params.flag("always_on", false);
+      reconnect_ = params.flag("reconnect", true);
+      url = params.text("camera_info_url", "");
+      params.refuseUnread();
     } catch (const std::invalid_argument& e) {
       NODELET_FATAL("invalid camera parameter: %s", e.what());
       throw;

@@ -89,16 +89,20 @@ class RisasNodelet : public nodelet::Nodelet {
     bool approximate = true;
     rgb_it_ = std::make_unique<image_transport::ImageTransport>(nh);
     try {
-      queue_size_ = intParam(pnh, "queue_size", 5, 1, 1000);
-      always_subscribe_ = flagParam(pnh, "always_subscribe", false);
-      approximate = flagParam(pnh, "approximate_sync", true);
-      setup_ = std::make_shared<const Setup>(paramsFromServer(pnh));
+      NodeParams params(pnh);
+      queue_size_ = params.whole("queue_size", 5, 1, 1000);
+      always_subscribe_ = params.flag("always_subscribe", false);
+      approximate = params.flag("approximate_sync", true);
+      setup_ = std::make_shared<const Setup>(params.risas());
       // As depth_image_proc: ~image_transport for colour, ~depth_image_transport for depth.
       const std::vector<std::string> loadable = rgb_it_->getLoadableTransports();
       rgb_hints_.emplace("raw", ros::TransportHints(), pnh, "image_transport");
       depth_hints_.emplace("raw", ros::TransportHints(), pnh, "depth_image_transport");
       checkImageTransport(rgb_hints_->getTransport(), "image_transport", false, loadable);
       checkImageTransport(depth_hints_->getTransport(), "depth_image_transport", true, loadable);
+      // ~image's transport plugins read ~image/compressed/... and the like.
+      params.readByOthers({"image_transport", "depth_image_transport", "image"});
+      params.refuseUnread();
     } catch (const std::invalid_argument& e) {
       NODELET_FATAL("invalid RISAS parameter: %s", e.what());
       throw;

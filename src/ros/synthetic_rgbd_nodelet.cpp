@@ -36,12 +36,14 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     double rate = 30.0;
     try {
-      rate = numberParam(pnh, "rate", 30.0, 0.01, 1000.0);
-      frame_id_ = textParam(pnh, "frame_id", "camera_rgb_optical_frame");
-      world_frame_ = textParam(pnh, "world_frame", "world");
-      truth_frame_ = textParam(pnh, "truth_frame_id", frame_id_ + "_truth");
-      arc_ = numberParam(pnh, "arc_deg", 25.0, 0.0, 180.0) * M_PI / 180.0;
-      period_ = numberParam(pnh, "period", 12.0, 0.01, 1e6);
+      NodeParams params(pnh);
+      rate = params.number("rate", 30.0, 0.01, 1000.0);
+      frame_id_ = params.text("frame_id", "camera_rgb_optical_frame");
+      world_frame_ = params.text("world_frame", "world");
+      truth_frame_ = params.text("truth_frame_id", frame_id_ + "_truth");
+      arc_ = params.number("arc_deg", 25.0, 0.0, 180.0) * M_PI / 180.0;
+      period_ = params.number("period", 12.0, 0.01, 1e6);
+      params.refuseUnread();
     } catch (const std::invalid_argument& e) {
       NODELET_FATAL("invalid synthetic camera parameter: %s", e.what());
       throw;

@@ -630,6 +630,22 @@ TEST(NodeParams, GivenValuesAreTakenAndWrongOnesRefusedByName) {
   EXPECT_NE(refusal(frame, true).find("~frame_id must be text"), std::string::npos);
 }
 
+// The names under a node's private namespace that nothing reads: each
+// first-level name once, below the namespace only (not a sibling sharing its
+// prefix), whatever lies under a name that is read.
+TEST(NodeParams, NamesNothingReadsAreFound) {
+  const std::vector<std::string> server = {"/risas/queue_size",         "/risas/aproximate_sync",
+                                           "/risas/detector/tau",       "/risas/detectr/tau",
+                                           "/risas/detectr/max_keypoints", "/risas/image/compressed/jpeg_quality",
+                                           "/risas_odometry/publish_tf", "/risas2/anything",
+                                           "/rosdistro",                "/run_id"};
+  const std::set<std::string> read = {"queue_size", "detector", "image"};
+  EXPECT_EQ(unreadNames(server, "/risas", read), (std::vector<std::string>{"aproximate_sync", "detectr"}));
+  EXPECT_EQ(unreadNames(server, "/risas_odometry", {"publish_tf"}), std::vector<std::string>{});
+  EXPECT_EQ(unreadNames(server, "/elsewhere", read), std::vector<std::string>{});
+  EXPECT_EQ(unreadNames({"/ns/node/a", "/ns/node/b/c"}, "/ns/node", {"b"}), std::vector<std::string>{"a"});
+}
+
 TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {
   ros::Time::init();
   LogThrottle throttle(60.0);

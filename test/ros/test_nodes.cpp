@@ -700,7 +700,7 @@ TEST(Transports, LossyDepthOrAnUninstalledTransportStopsTheNodeWithItsName) {
   EXPECT_NE(missing.find("image_transport 'theora' is not installed (installed: raw"), std::string::npos) << missing;
 }
 
-// A node parameter of the wrong kind, or a typo in an algorithm parameter,
+// A node parameter of the wrong kind, or a typo in a parameter's name,
 // stops the node by name, where roscpp would keep the default (an int for a
 // flag, an unknown name) in silence.
 TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
@@ -710,6 +710,17 @@ TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
   const auto [typo_status, typo] = runRisasNode("__name:=risas_typo _detector/max_keypoint:=1000");
   EXPECT_EQ(typo_status, 1) << typo;
   EXPECT_NE(typo.find("unknown parameter 'detector.max_keypoint'"), std::string::npos) << typo;
+  // A misspelt node parameter or section, which no one would read. One node
+  // name each: the server keeps a node's parameters after it exits.
+  for (const std::string misspelt : {"aproximate_sync:=false", "detectr/tau:=0.5"}) {
+    const std::string name = misspelt.substr(0, misspelt.find_first_of("/:"));
+    const auto [status, output] = runRisasNode("__name:=risas_" + name + " _" + misspelt);
+    EXPECT_EQ(status, 1) << output;
+    EXPECT_NE(output.find("unknown parameter ~" + name + " (a typo?); this node reads always_subscribe, "
+                          "approximate_sync, depth_image_transport, descriptor, detector, geometry, image,"),
+              std::string::npos)
+        << output;
+  }
 }
 
 // ---------------------------------------------------------------- NoDevice --

@@ -6,10 +6,14 @@
 // leave approximate sync on.
 #pragma once
 
+#include "risas/params.hpp"
+
 #include <ros/node_handle.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <set>
 #include <string>
+#include <vector>
 
 namespace risas_ros {
 
@@ -22,10 +26,36 @@ int intValue(const std::string& name, XmlRpc::XmlRpcValue& value, int lo, int hi
 double numberValue(const std::string& name, XmlRpc::XmlRpcValue& value, double lo, double hi);
 std::string textValue(const std::string& name, XmlRpc::XmlRpcValue& value);
 
-// The same from `nh`'s parameter `key`, `fallback` when it is not set.
-bool flagParam(const ros::NodeHandle& nh, const std::string& key, bool fallback);
-int intParam(const ros::NodeHandle& nh, const std::string& key, int fallback, int lo, int hi);
-double numberParam(const ros::NodeHandle& nh, const std::string& key, double fallback, double lo, double hi);
-std::string textParam(const ros::NodeHandle& nh, const std::string& key, const std::string& fallback);
+// A node's private namespace read whole: each parameter as above (the
+// fallback when it is not set), the algorithm's sections by
+// paramsFromServer, and then every name under the namespace that nothing
+// read refused by name. roscpp leaves such a name unread in silence: a
+// misspelt ~aproximate_sync kept the default, and openni2_camera's
+// ~color_mode given to this package's camera did nothing.
+class NodeParams {
+ public:
+  explicit NodeParams(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+
+  bool flag(const std::string& key, bool fallback);
+  int whole(const std::string& key, int fallback, int lo, int hi);
+  double number(const std::string& key, double fallback, double lo, double hi);
+  std::string text(const std::string& key, const std::string& fallback);
+  risas::RisasParams risas();  // paramsFromServer
+  // Names that others read under the namespace: image_transport's hints
+  // (~image_transport), a publisher's transport plugins (~image/compressed/...).
+  void readByOthers(const std::vector<std::string>& keys);
+  // std::invalid_argument naming the first name under the namespace that no
+  // one reads, with the names that are read.
+  void refuseUnread() const;
+
+ private:
+  ros::NodeHandle pnh_;
+  std::set<std::string> read_ = {"num_worker_threads"};  // a standalone node's nodelet::Loader reads it
+};
+
+// The first-level names under `ns` among the server's `names` (full names,
+// as ros::param::getParamNames gives them) that are not in `read`, sorted.
+std::vector<std::string> unreadNames(const std::vector<std::string>& names, const std::string& ns,
+                                     const std::set<std::string>& read);
 
 }  // namespace risas_ros
