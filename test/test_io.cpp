@@ -95,7 +95,9 @@ TEST(ParamsFile, YamlWithoutItsDirectiveIsRead) {
   const std::string plain = dir.write("broken.yml", broken), headed = dir.write("broken_headed.yml", "%YAML:1.0\n" + broken);
   EXPECT_NE(error(plain).find(plain + "(3): Incorrect indentation"), std::string::npos) << error(plain);
   EXPECT_NE(error(headed).find(headed + "(4): Incorrect indentation"), std::string::npos) << error(headed);
-  EXPECT_EQ(error(dir.path.string()), "cannot open parameter file " + dir.path.string());
+  EXPECT_EQ(error(dir.path.string()), "cannot read parameter file " + dir.path.string() + ": Is a directory");
+  EXPECT_EQ(error(dir.file("missing.yml")),
+            "cannot read parameter file " + dir.file("missing.yml") + ": No such file or directory");
   // Fields that contradict each other are named with the file too.
   const std::string crossed = dir.write("crossed.yml", "descriptor:\n  min_radius_px: 30\n  max_radius_px: 20\n");
   EXPECT_EQ(error(crossed), "parameter file " + crossed + ": descriptor.min_radius_px exceeds descriptor.max_radius_px");

@@ -109,10 +109,15 @@ TEST_F(Tools, ExtractReadsTumDepthUnits) {
     EXPECT_EQ(mm.keypoints[i].pt, tum.keypoints[i].pt);
     EXPECT_NEAR(cv::norm(mm.geometry[i].point - tum.geometry[i].point), 0.0, 1e-5);
   }
-  r = run("risas_extract" + common + " --depth " + file("depth_1_tum.png") + " --depth-units 0 --out " +
-          file("bad.yml"));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("depth units per metre must be positive"), std::string::npos) << r.output;
+  for (const char* units : {"0", "-5", "0.5", "1e9"}) {
+    r = run("risas_extract" + common + " --depth " + file("depth_1_tum.png") + " --depth-units " + units +
+            " --out " + file("bad.yml"));
+    EXPECT_EQ(r.exit_code, 1) << units;
+    EXPECT_NE(r.output.find("depth units per metre must be within [1, 100000] (1000: millimetres; TUM RGB-D: "
+                            "5000), got "),
+              std::string::npos)
+        << r.output;
+  }
 }
 
 // The last number on the benchmark's line that starts with `stage`.

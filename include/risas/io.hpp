@@ -60,7 +60,7 @@ constexpr double kMillimetreDepthUnits = 1000.0;
 // A 16-bit depth image of `units_per_metre` values a metre as CV_32FC1
 // metres, 0 where it is 0 (missing), for RgbdFrame; millimetres (1000) are
 // returned as they are, which RgbdFrame takes as such. InputError unless
-// units_per_metre is positive and finite.
+// units_per_metre is within [1, 1e5] (a unit between 10 µm and 1 m).
 cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre);
 
 // The images, validated into a frame; the depth at `depth_units_per_metre`

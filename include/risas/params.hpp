@@ -237,8 +237,8 @@ struct RisasParams {
   void write(cv::FileStorage& fs) const;
   void read(const cv::FileNode& root);
 
-  // Throws std::runtime_error when the file cannot be opened or parsed and
-  // std::invalid_argument when a value is out of range.
+  // Throws std::runtime_error when the file cannot be read or parsed and
+  // std::invalid_argument (InputError) when a value is out of range.
   static RisasParams load(const std::string& path);
   void save(const std::string& path) const;
 };

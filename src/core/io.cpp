@@ -244,9 +244,14 @@ RgbdImages readRgbdImages(const std::string& color_path, const std::string& dept
 }
 
 cv::Mat depthFromUnits(const cv::Mat& depth16, double units_per_metre) {
-  if (!(units_per_metre > 0.0 && std::isfinite(units_per_metre))) {
-    throw InputError("depth units per metre must be positive and finite (1000: millimetres; TUM RGB-D: 5000), got " +
-                     std::to_string(units_per_metre));
+  // A unit between 10 µm (a 16-bit image's range 0.65 m) and 1 m: beyond
+  // them a typo ("--depth-units 5e9") would give every pixel a depth, none a
+  // sensor's.
+  if (!(units_per_metre >= 1.0 && units_per_metre <= 1e5)) {
+    std::ostringstream given;
+    given << units_per_metre;
+    throw InputError("depth units per metre must be within [1, 100000] (1000: millimetres; TUM RGB-D: 5000), got " +
+                     given.str());
   }
   if (units_per_metre == kMillimetreDepthUnits) return depth16;
   cv::Mat metres;

@@ -8,8 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -234,15 +232,15 @@ void RisasParams::read(const cv::FileNode& root) {
 }
 
 RisasParams RisasParams::load(const std::string& path) {
+  std::string text;
+  try {
+    text = readTextFile(path, "parameter file");  // gzip too, as FileStorage reads it
+  } catch (const InputError& e) {
+    throw std::runtime_error(e.what());  // "cannot read parameter file P: <the system's reason>"
+  }
   RisasParams params;
   int added_lines = 0;
   try {
-    std::error_code no_status;  // is_directory false: open decides
-    std::ifstream file(path, std::ios::binary);
-    if (!file || std::filesystem::is_directory(path, no_status)) {
-      throw std::runtime_error("cannot open parameter file " + path);
-    }
-    std::string text = readTextFile(path, "parameter file");  // gzip too, as FileStorage reads it
     added_lines = withYamlDirective(text) ? 1 : 0;
     cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
     params.read(fs.root());
@@ -252,8 +250,6 @@ RisasParams RisasParams::load(const std::string& path) {
                              reasonInFile(parserReason(e), path, added_lines));
   } catch (const InputError& e) {
     throw InputError("parameter file " + path + ": " + e.what());
-  } catch (const std::runtime_error&) {
-    throw;  // cannot open
   } catch (const std::exception& e) {
     // OpenCV's parser lets a standard exception out on some corrupt files
     // (std::length_error on a key that begins with ':').
