@@ -237,6 +237,27 @@ TEST_F(Tools, OdometryWritesWhatItCannotScoreAndSaysWhy) {
       << r.output;
 }
 
+// A recording's colour image without a depth image near it is left out with
+// a note, not in silence: a depth stream that lags by more than the
+// tolerance would lose most frames.
+TEST_F(Tools, RecordingsFramesLeftOutAreNoted) {
+  const fs::path tum = tumFolder(3);
+  std::ofstream(tum / "depth.txt") << "1.001 depth/1.png\n3.001 depth/3.png\n";  // frame 2's depth is gone
+  const std::string note = ": " + tum.string() + ": 1 of 3 colour images have no depth image within 0.02 s: left out\n";
+  const std::string intrinsics = " --intrinsics " + file("camera-intrinsics.txt");
+  for (const std::string tool : {"risas_odometry", "risas_benchmark", "risas_evaluate"}) {
+    const std::string options = tool == "risas_odometry"  ? " --out " + file("left_out.txt")
+                                : tool == "risas_benchmark" ? " --frames 2 --repeats 1"
+                                                            : " --methods ORB --no-plots --out " + file("left_out_eval");
+    const ToolRun r = run(tool + " --tum " + tum.string() + intrinsics + options);
+    EXPECT_EQ(r.exit_code, 0) << tool << ": " << r.output;
+    EXPECT_NE(r.output.find(tool + note), std::string::npos) << tool << ": " << r.output;
+  }
+  EXPECT_EQ(readTumTrajectory(file("left_out.txt")).size(), 2u);
+  const ToolRun whole = run("risas_odometry --tum " + tumFolder(3).string() + intrinsics + " --out " + file("whole.txt"));
+  EXPECT_EQ(whole.output.find("left out"), std::string::npos) << whole.output;
+}
+
 // The same odometry on ORB's features, and on ORB's strongest keypoint of
 // each image point (ORB-distinct): fewer features a frame, every frame
 // tracked on the rendered sequence.

@@ -76,6 +76,14 @@ TEST_F(Tum, PairsColourAndDepthByNearestStampAndTakesTheNearestPose) {
   EXPECT_NEAR(s.frames[1].world_T_camera->translation().x(), 0.1, 1e-9);
   EXPECT_NEAR(s.frames[1].world_T_camera->translation().z(), 1.0, 1e-12);
   EXPECT_FALSE(s.frames[3].world_T_camera);
+  EXPECT_EQ(leftOutOf(s), "1 of 5 colour images have no depth image within 0.02 s; "
+                          "1 of 4 frames have no ground-truth pose within 0.02 s");
+  write("depth.txt", "# depth\n10.005000 depth/10.005000.png\n10.305000 depth/10.305000.png\n");
+  fs::remove(dir_ / "groundtruth.txt");  // no ground truth: no frame lacks one
+  EXPECT_EQ(leftOutOf(readTumSequence(dir(), 0.01)), "3 of 5 colour images have no depth image within 0.01 s");
+  TumSequence whole;
+  whole.frames.resize(3);
+  EXPECT_EQ(leftOutOf(whole), "");
 }
 
 TEST_F(Tum, AssociationTakesTheClosestStampsFirstAndEachOnce) {
@@ -89,7 +97,7 @@ TEST_F(Tum, AssociationTakesTheClosestStampsFirstAndEachOnce) {
 }
 
 TEST_F(Tum, EvaluationPairsCarryTheRelativeMotion) {
-  const std::vector<eval::Pair> pairs = eval::listTumPairs(dir(), {1, 2});
+  const std::vector<eval::Pair> pairs = eval::listTumPairs(dir(), readTumSequence(dir()), {1, 2});
   // gap 1: (0,1), (1,2); (2,3) has no pose for 3. gap 2: (0,2).
   ASSERT_EQ(pairs.size(), 3u);
   EXPECT_EQ(pairs[0].sequence, "gap1");
@@ -100,7 +108,8 @@ TEST_F(Tum, EvaluationPairsCarryTheRelativeMotion) {
   // Frame 0 at x = 0, frame 2 (10.30) at x = 0.3: p_ref = p_query + (0.3, 0, 0).
   EXPECT_NEAR(pairs[2].ref_T_query.translation().x(), 0.3, 1e-9);
   EXPECT_TRUE(pairs[2].ref_T_query.linear().isIdentity(1e-12));
-  EXPECT_NE(errorOf([&] { eval::listTumPairs(dir(), {0}); }).find("gap must be positive"), std::string::npos);
+  EXPECT_NE(errorOf([&] { eval::listTumPairs(dir(), readTumSequence(dir()), {0}); }).find("gap must be positive"),
+            std::string::npos);
 }
 
 TEST_F(Tum, MissingAndMalformedFilesAreNamed) {

@@ -34,7 +34,16 @@ struct TumSequence {
   int unmatched_rgb = 0;         // colour images left without a depth image
   int unmatched_depth = 0;
   int without_pose = 0;          // frames with no ground truth near them
+  bool has_ground_truth = false;  // groundtruth.txt is there
+  double max_difference = 0.0;    // the association's tolerance, seconds
 };
+
+// What the association left out, as one sentence for a tool to print, or ""
+// when nothing was: colour images without a depth image, depth images
+// without a colour image, frames without a ground-truth pose (when there is
+// a ground truth). A recording whose depth stamps lag more than the
+// tolerance would otherwise lose most of its frames in silence.
+std::string leftOutOf(const TumSequence& sequence);
 
 // A frame's images: colour (BGR) and depth in metres (CV_32FC1, 0 where
 // missing), read as readRgbdImages reads them and scaled by

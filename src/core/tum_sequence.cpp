@@ -158,6 +158,8 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
   std::sort(by_stamp.begin(), by_stamp.end(), [&](size_t x, size_t y) { return pose_stamps[x] < pose_stamps[y]; });
 
   TumSequence sequence;
+  sequence.has_ground_truth = !poses.empty();
+  sequence.max_difference = max_difference;
   const auto pairs = associateStamps(rgb.stamps, depth.stamps, max_difference);
   sequence.unmatched_rgb = static_cast<int>(rgb.stamps.size() - pairs.size());
   sequence.unmatched_depth = static_cast<int>(depth.stamps.size() - pairs.size());
@@ -186,6 +188,29 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
                      " s of it");
   }
   return sequence;
+}
+
+std::string leftOutOf(const TumSequence& sequence) {
+  const size_t frames = sequence.frames.size();
+  std::ostringstream text;
+  text << sequence.max_difference;
+  const std::string within = " within " + text.str() + " s";
+  std::vector<std::string> parts;
+  if (sequence.unmatched_rgb > 0) {
+    parts.push_back(std::to_string(sequence.unmatched_rgb) + " of " + std::to_string(frames + sequence.unmatched_rgb) +
+                    " colour images have no depth image" + within);
+  }
+  if (sequence.unmatched_depth > 0) {
+    parts.push_back(std::to_string(sequence.unmatched_depth) + " of " +
+                    std::to_string(frames + sequence.unmatched_depth) + " depth images have no colour image" + within);
+  }
+  if (sequence.has_ground_truth && sequence.without_pose > 0) {
+    parts.push_back(std::to_string(sequence.without_pose) + " of " + std::to_string(frames) +
+                    " frames have no ground-truth pose" + within);
+  }
+  std::string sentence;
+  for (const std::string& part : parts) sentence += (sentence.empty() ? "" : "; ") + part;
+  return sentence;
 }
 
 TumImages readTumImages(const TumFrame& frame) {

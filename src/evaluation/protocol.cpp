@@ -126,9 +126,9 @@ cv::Point2f unrotatePixel(const cv::Point2f& pixel, double rotation_deg, const c
   return {static_cast<float>(centre.x + c * dx - s * dy), static_cast<float>(centre.y + s * dx + c * dy)};
 }
 
-std::vector<Pair> listTumPairs(const std::string& dir, const std::vector<int>& gaps, int stride) {
+std::vector<Pair> listTumPairs(const std::string& dir, const TumSequence& sequence, const std::vector<int>& gaps,
+                               int stride) {
   if (stride < 1) throw InputError("the pair stride must be positive, not " + std::to_string(stride));
-  const TumSequence sequence = readTumSequence(dir);
   const std::string scene = fs::path(dir).lexically_normal().filename().empty()
                                 ? fs::path(dir).lexically_normal().parent_path().filename().string()
                                 : fs::path(dir).lexically_normal().filename().string();

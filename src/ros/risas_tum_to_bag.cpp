@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     const std::string out = args.get("out"), ns = args.get("camera", "camera");
     risas::cli::requireWritable(out);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
-    const risas::TumSequence sequence = risas::readTumSequence(args.get("tum"));
+    const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_tum_to_bag", args.get("tum"));
     risas_ros::BagWriter bag(out);
     for (size_t i = 0; i < sequence.frames.size(); ++i) {
       const risas::TumFrame& f = sequence.frames[i];

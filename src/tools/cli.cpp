@@ -163,6 +163,13 @@ void requireWritable(const std::string& path) {
   }
 }
 
+TumSequence readTumSequenceNoting(const char* tool, const std::string& dir) {
+  TumSequence sequence = readTumSequence(dir);
+  const std::string left_out = leftOutOf(sequence);
+  if (!left_out.empty()) std::cerr << tool << ": " << dir << ": " << left_out << ": left out\n";
+  return sequence;
+}
+
 void makeOutputFolder(const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;

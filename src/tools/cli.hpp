@@ -5,6 +5,7 @@
 #include "risas/intrinsics.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <functional>
 #include <map>
@@ -65,6 +66,11 @@ Option paramsOption();
 // writable, and the file, if there, is too. Tools check their outputs with
 // it before the work, not after.
 void requireWritable(const std::string& path);
+
+// The recording `dir` as readTumSequence reads it; what the association
+// left out (leftOutOf) printed as a note, "<tool>: <dir>: ...: left out",
+// on standard error.
+TumSequence readTumSequenceNoting(const char* tool, const std::string& dir);
 
 // Makes the folder `dir` and its parents unless `dir` is a folder already;
 // InputError "cannot make folder D: <reason>" otherwise (a file in the way).

@@ -36,7 +36,7 @@ std::vector<risas::RgbdFrame> loadSequence(const std::string& dir, int max_frame
 // neighbouring frames are nearly the same image): the first, the last and
 // those between.
 std::vector<risas::RgbdFrame> loadTumSequence(const std::string& dir, const risas::Intrinsics& K, int max_frames) {
-  const risas::TumSequence sequence = risas::readTumSequence(dir);
+  const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_benchmark", dir);
   const size_t available = sequence.frames.size(), count = std::min(available, static_cast<size_t>(max_frames));
   std::vector<risas::RgbdFrame> frames;
   for (size_t i = 0; i < count; ++i) {

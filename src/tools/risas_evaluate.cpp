@@ -150,7 +150,8 @@ int main(int argc, char** argv) {
         if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
         gaps.push_back(gap);
       }
-      pairs = risas::eval::listTumPairs(root, gaps, args.getInt("pair-stride", 1, 1, 1000000));
+      pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
+                                        args.getInt("pair-stride", 1, 1, 1000000));
     } else {
       pairs = risas::eval::listPairs(root, split(args.get("scenes", "texture,geometry")),
                                      split(args.get("sequences", all_sequences)));

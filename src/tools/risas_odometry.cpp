@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
     if (args.has("frames")) risas::cli::requireWritable(args.get("frames"));
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
-    const risas::TumSequence sequence = risas::readTumSequence(args.get("tum"));
+    const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"));
     const int max_frames = args.getInt("max-frames", static_cast<int>(sequence.frames.size()), 1, 100000000);
     const int seeds = args.getInt("ransac-seeds", 1, 1, 1000);
     const int delta = args.getInt("delta", 1, 1, 1000000);

@@ -5,6 +5,7 @@
 
 #include "risas/intrinsics.hpp"
 #include "risas/io.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -45,13 +46,14 @@ const std::vector<std::string>& evaluatedSequences();
 std::vector<Pair> listPairs(const std::string& root, const std::vector<std::string>& scenes,
                             const std::vector<std::string>& sequences);
 
-// Pairs (frame i, frame i + gap) of a TUM RGB-D folder (readTumSequence)
-// for each gap, i = 0, stride, 2 stride, ...; both frames need a ground-truth
-// pose, and ref_T_query = world_T_i^-1 world_T_{i+gap}. scene is the
-// folder's name, sequence "gap<d>", label "i+d" (frame indices from 0 in
-// the associated sequence), step the gap. InputError from the reader, or
-// when a gap or the stride is not positive.
-std::vector<Pair> listTumPairs(const std::string& dir, const std::vector<int>& gaps, int stride = 1);
+// Pairs (frame i, frame i + gap) of the TUM RGB-D folder `dir`, as
+// readTumSequence read it into `sequence`, for each gap, i = 0, stride,
+// 2 stride, ...; both frames need a ground-truth pose, and ref_T_query =
+// world_T_i^-1 world_T_{i+gap}. scene is the folder's name, sequence
+// "gap<d>", label "i+d" (frame indices from 0 in the associated sequence),
+// step the gap. InputError when a gap or the stride is not positive.
+std::vector<Pair> listTumPairs(const std::string& dir, const TumSequence& sequence, const std::vector<int>& gaps,
+                               int stride = 1);
 
 // A keypoint's 3D point: the median of the valid depths in its 3x3
 // neighbourhood, back-projected; NaN when none is valid.
