@@ -235,6 +235,16 @@ TEST_F(Tools, OdometryWritesWhatItCannotScoreAndSaysWhy) {
   EXPECT_NE(r.output.find("ATE RMSE "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("RPE (3 frame): no two frames with ground truth that far apart"), std::string::npos)
       << r.output;
+  // No ground truth at all: said so, and the seeds that would only score it are not run.
+  const fs::path untruthful = tumFolder(3);
+  fs::remove(untruthful / "groundtruth.txt");
+  r = run(common + " --tum " + untruthful.string() + " --out " + file("free.txt") + " --ransac-seeds 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Not scored: " + untruthful.string() + " has no groundtruth.txt; one RANSAC seed run, not 3\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("over 3 RANSAC seeds"), std::string::npos) << r.output;
+  EXPECT_EQ(readTumTrajectory(file("free.txt")).size(), 3u);
 }
 
 // A recording's colour image without a depth image near it is left out with

@@ -142,7 +142,8 @@ int main(int argc, char** argv) {
     const std::vector<risas::StampedPose> truth =
         scored ? risas::readTumTrajectory(gt.string()) : std::vector<risas::StampedPose>();
     std::vector<double> ates;
-    for (int k = 0; k < seeds; ++k) {
+    const int runs = scored ? seeds : 1;  // without a ground truth the other seeds would score nothing
+    for (int k = 0; k < runs; ++k) {
       risas::MotionParams motion = params.motion;
       motion.seed = params.motion.seed + static_cast<unsigned int>(k);
       risas::Odometry odometry(params.odometry, params.match, motion);
@@ -160,7 +161,7 @@ int main(int argc, char** argv) {
         risas::Features extracted;
         if (k == 0) {
           extracted = extract(i);
-          if (seeds > 1) kept.push_back(extracted);
+          if (runs > 1) kept.push_back(extracted);
         }
         const risas::Features& features = k == 0 ? extracted : kept[i];
         const double stamp = sequence.frames[i].stamp;
@@ -193,7 +194,11 @@ int main(int argc, char** argv) {
       std::cout << features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
                 << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes()
                 << " keyframes; trajectory written to " << out << "\n";
-      if (!scored) continue;
+      if (!scored) {
+        std::cout << "Not scored: " << args.get("tum") << " has no groundtruth.txt"
+                  << (seeds > 1 ? "; one RANSAC seed run, not " + std::to_string(seeds) : "") << "\n";
+        continue;
+      }
       if (!scorable) {
         std::cout << "Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), " << with_truth
                   << " have it\n";
