@@ -98,6 +98,12 @@ TEST(ParamsFile, YamlWithoutItsDirectiveIsRead) {
   EXPECT_EQ(error(dir.path.string()), "cannot read parameter file " + dir.path.string() + ": Is a directory");
   EXPECT_EQ(error(dir.file("missing.yml")),
             "cannot read parameter file " + dir.file("missing.yml") + ": No such file or directory");
+  const std::string corrupt = dir.write("corrupt.yml.gz", std::string("\x1f\x8b\x08\x00 not deflate at all", 24));
+  const std::string corrupt_error = error(corrupt);  // zlib's words in the brackets: "invalid code lengths set"
+  EXPECT_EQ(corrupt_error.rfind("cannot read parameter file " + corrupt + ": corrupt gzip data (", 0), 0u)
+      << corrupt_error;
+  EXPECT_EQ(corrupt_error.find(corrupt, corrupt_error.find(corrupt) + 1), std::string::npos)
+      << "the file named twice: " << corrupt_error;
   // Fields that contradict each other are named with the file too.
   const std::string crossed = dir.write("crossed.yml", "descriptor:\n  min_radius_px: 30\n  max_radius_px: 20\n");
   EXPECT_EQ(error(crossed), "parameter file " + crossed + ": descriptor.min_radius_px exceeds descriptor.max_radius_px");
@@ -350,7 +356,8 @@ TEST(WrittenImages, AreWholeOrAnErrorNamingTheFileAndTheReason) {
     EXPECT_EQ(test::inputErrorOf([&] { writeImage(dir.file(name), image, "test image"); }), expected);
     EXPECT_FALSE(fs::exists(dir.file(name)));
   }
-  const std::string missing = test::inputErrorOf([&] { writeImage(dir.file("no/such/image.png"), image, "test image"); });
+  const std::string missing =
+      test::inputErrorOf([&] { writeImage(dir.file("no/such/image.png"), image, "test image"); });
   EXPECT_EQ(missing.rfind("cannot write test image " + dir.file("no/such/image.png") + ": ", 0), 0u) << missing;
   EXPECT_EQ(missing.find('\n'), std::string::npos) << missing;
 

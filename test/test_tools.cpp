@@ -240,7 +240,8 @@ TEST_F(Tools, OdometryWritesWhatItCannotScoreAndSaysWhy) {
   fs::remove(untruthful / "groundtruth.txt");
   r = run(common + " --tum " + untruthful.string() + " --out " + file("free.txt") + " --ransac-seeds 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("Not scored: " + untruthful.string() + " has no groundtruth.txt; one RANSAC seed run, not 3\n"),
+  EXPECT_NE(r.output.find("Not scored: " + untruthful.string() +
+                          " has no groundtruth.txt; one RANSAC seed run, not 3\n"),
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("over 3 RANSAC seeds"), std::string::npos) << r.output;
@@ -256,15 +257,16 @@ TEST_F(Tools, RecordingsFramesLeftOutAreNoted) {
   const std::string note = ": " + tum.string() + ": 1 of 3 colour images have no depth image within 0.02 s: left out\n";
   const std::string intrinsics = " --intrinsics " + file("camera-intrinsics.txt");
   for (const std::string tool : {"risas_odometry", "risas_benchmark", "risas_evaluate"}) {
-    const std::string options = tool == "risas_odometry"  ? " --out " + file("left_out.txt")
+    const std::string options = tool == "risas_odometry"    ? " --out " + file("left_out.txt")
                                 : tool == "risas_benchmark" ? " --frames 2 --repeats 1"
-                                                            : " --methods ORB --no-plots --out " + file("left_out_eval");
+                                                            : " --methods ORB --no-plots --out " + file("eval");
     const ToolRun r = run(tool + " --tum " + tum.string() + intrinsics + options);
     EXPECT_EQ(r.exit_code, 0) << tool << ": " << r.output;
     EXPECT_NE(r.output.find(tool + note), std::string::npos) << tool << ": " << r.output;
   }
   EXPECT_EQ(readTumTrajectory(file("left_out.txt")).size(), 2u);
-  const ToolRun whole = run("risas_odometry --tum " + tumFolder(3).string() + intrinsics + " --out " + file("whole.txt"));
+  const ToolRun whole =
+      run("risas_odometry --tum " + tumFolder(3).string() + intrinsics + " --out " + file("whole.txt"));
   EXPECT_EQ(whole.output.find("left out"), std::string::npos) << whole.output;
 }
 

@@ -435,8 +435,16 @@ std::string readTextFile(const std::string& path, const std::string& what) {
   int got = 0;
   while ((got = gzread(file, buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<size_t>(got));
   const int error = errno;
+  if (got < 0) {
+    // The system's reason, or zlib's for a corrupt gzip stream.
+    int zlib_error = Z_OK;
+    std::string zlib_reason = gzerror(file, &zlib_error);
+    gzclose(file);
+    if (zlib_reason.rfind(path + ": ", 0) == 0) zlib_reason.erase(0, path.size() + 2);  // zlib names the file too
+    if (zlib_error == Z_ERRNO) throw failed(error);
+    throw InputError("cannot read " + what + " " + path + ": corrupt gzip data (" + zlib_reason + ")");
+  }
   gzclose(file);
-  if (got < 0) throw failed(error);
   return text;
 }
 

@@ -430,6 +430,9 @@ void fuzzTumFolder(Bytes& in) {
       require(std::filesystem::is_regular_file(f.rgb) && std::filesystem::is_regular_file(f.depth), "files exist");
       require(!f.world_T_camera || isRigid(*f.world_T_camera), "a frame's pose is a rigid motion");
     }
+    const bool all_paired =
+        s.unmatched_rgb == 0 && s.unmatched_depth == 0 && (!s.has_ground_truth || s.without_pose == 0);
+    require(risas::leftOutOf(s).empty() == all_paired, "what is left out is said exactly when something is");
   } catch (const risas::InputError&) {
   }
   if (!std::filesystem::exists(gt)) return;
@@ -542,7 +545,9 @@ void fuzzParams(Bytes& in) {
     try {
       risas::RisasParams::load(path);  // validates, the fields against each other too
     } catch (const std::runtime_error& e) {
-      require(one_line_naming(e.what(), "cannot parse parameter file "), "a parse error is one line naming the file");
+      require(one_line_naming(e.what(), "cannot parse parameter file ") ||
+                  one_line_naming(e.what(), "cannot read parameter file "),  // corrupt gzip
+              "a parse or read error is one line naming the file");
     } catch (const std::invalid_argument& e) {
       require(one_line_naming(e.what(), "parameter file "), "a bad field is one line naming the file");
     }
