@@ -410,6 +410,10 @@ TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
        "risas_evaluate: --sequences does not apply with --tum"},
       {"risas_evaluate --data " + dir.string() + " --study tau --methods ORB",
        "risas_evaluate: --methods does not apply with --study: the study's methods are run"},
+      {"risas_evaluate --data " + dir.string() + " --sequences viewchange,illum,viewchange",
+       "risas_evaluate: --sequences names 'viewchange' twice"},
+      {"risas_evaluate --data " + dir.string() + " --methods ORB,,SIFT",
+       "risas_evaluate: --methods has an empty item in 'ORB,,SIFT'"},
       {"risas_benchmark" + intrinsics, "risas_benchmark: --intrinsics does not apply to the synthetic frames"},
       {"risas_benchmark --data " + dir.string() + numbers,
        "risas_benchmark: --fx does not apply with --data: its camera-intrinsics.txt is read"},
@@ -426,6 +430,31 @@ TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
   const ToolRun r = test::runTool(extract + intrinsics + " --out --dashes.yml", "cd " + dir.string() + " && ");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "--dashes.yml"));
+}
+
+// What a list option names is there: a misspelt scene, sequence or pair
+// label stops the evaluation before it starts, where it was left out.
+TEST_F(Tools, EvaluationListsNameWhatIsThere) {
+  const fs::path root = dir / "dataset";
+  fs::create_directories(root / "texture");
+  if (!fs::exists(root / "texture" / "viewchange")) fs::create_directory_symlink(dir, root / "texture" / "viewchange");
+  const std::string evaluate = "risas_evaluate --data " + root.string() + " --methods ORB --no-plots --out " +
+                               file("lists");
+  const std::map<std::string, std::string> refused = {
+      {" --scenes texture,textur", "--scenes: no folder 'textur' in " + root.string()},
+      {" --scenes texture --sequences viewchange,rotat",
+       "--sequences: no folder 'rotat' in " + (root / "texture").string()},
+      {" --scenes texture --sequences viewchange --pairs 2,9",
+       "--pairs: no pair is labelled '9' among those of " + root.string() + " and the other options"},
+  };
+  for (const auto& [options, message] : refused) {
+    const ToolRun r = run(evaluate + options);
+    EXPECT_EQ(r.exit_code, 1) << options << ": " << r.output;
+    EXPECT_EQ(r.output, "risas_evaluate: error: " + message + "\n") << options;
+  }
+  const ToolRun r = run(evaluate + " --scenes texture --sequences viewchange --pairs 2");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("[1/1] texture/viewchange 2:"), std::string::npos) << r.output;
 }
 
 // Outputs that cannot be written are found before the work: an image name

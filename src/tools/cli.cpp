@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -103,6 +105,23 @@ int Args::getInt(const std::string& name, int fallback, int lo, int hi) const {
                      "], got '" + get(name) + "'");
   }
   return static_cast<int>(value);
+}
+
+std::vector<std::string> Args::getList(const std::string& name, const std::string& fallback) const {
+  const std::string list = get(name, fallback);
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = list.find(',', start);
+    const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item.empty()) throw UsageError("--" + name + " has an empty item in '" + list + "'");
+    if (std::find(items.begin(), items.end(), item) != items.end()) {
+      throw UsageError("--" + name + " names '" + item + "' twice");
+    }
+    items.push_back(item);
+    if (comma == std::string::npos) return items;
+    start = comma + 1;
+  }
 }
 
 void Args::refuse(const std::vector<std::string>& names, const std::string& context) const {

@@ -39,6 +39,10 @@ class Args {
   // A whole number within [lo, hi]: UsageError naming the option and the
   // range otherwise (checked before any cast, so 1e20 is refused, not cast).
   int getInt(const std::string& name, int fallback, int lo, int hi) const;
+  // A comma-separated list ("viewchange,illum"), `fallback` when not given:
+  // UsageError for an empty item ("a,,b") or one given twice, which would
+  // be dropped or run twice in silence.
+  std::vector<std::string> getList(const std::string& name, const std::string& fallback) const;
   // UsageError naming the first of `names` that is given: an option that
   // does not apply in the tool's mode (`context`, e.g. "with --data") would
   // be ignored in silence.

@@ -9,6 +9,7 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,13 +19,20 @@
 
 namespace {
 
-std::vector<std::string> split(const std::string& list) {
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) items.push_back(item);
+// InputError unless each of `names` is a folder under one of `parents`: a
+// misspelt scene or sequence would otherwise be left out in silence.
+void requireFolders(const std::string& option, const std::vector<std::filesystem::path>& parents,
+                    const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    const bool found = std::any_of(parents.begin(), parents.end(), [&](const std::filesystem::path& parent) {
+      return std::filesystem::is_directory(parent / name);
+    });
+    if (!found) {
+      std::string where;
+      for (const auto& parent : parents) where += (where.empty() ? "" : " or ") + parent.string();
+      throw risas::InputError("--" + option + ": no folder '" + name + "' in " + where);
+    }
   }
-  return items;
 }
 
 // The paper's parameter studies as RISAS variants.
@@ -139,12 +147,12 @@ int main(int argc, char** argv) {
     if (args.has("study")) {
       methods = studyMethods(args.get("study"), params);
     } else {
-      for (const std::string& m : split(args.get("methods", all_methods))) methods.push_back(risas::eval::makeMethod(m, params));
+      for (const std::string& m : args.getList("methods", all_methods)) methods.push_back(risas::eval::makeMethod(m, params));
     }
     std::vector<risas::eval::Pair> pairs;
     if (tum) {
       std::vector<int> gaps;
-      for (const std::string& g : split(args.get("gaps", "1"))) {
+      for (const std::string& g : args.getList("gaps", "1")) {
         std::istringstream in(g);
         int gap = 0;
         if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
@@ -153,11 +161,25 @@ int main(int argc, char** argv) {
       pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
                                         args.getInt("pair-stride", 1, 1, 1000000));
     } else {
-      pairs = risas::eval::listPairs(root, split(args.get("scenes", "texture,geometry")),
-                                     split(args.get("sequences", all_sequences)));
+      const std::vector<std::string> scenes = args.getList("scenes", "texture,geometry"),
+                                     sequences = args.getList("sequences", all_sequences);
+      // The folders named are there; of the defaults, those there are evaluated.
+      if (args.has("scenes")) requireFolders("scenes", {root}, scenes);
+      if (args.has("sequences")) {
+        std::vector<std::filesystem::path> scene_dirs;
+        for (const std::string& scene : scenes) scene_dirs.push_back(std::filesystem::path(root) / scene);
+        requireFolders("sequences", scene_dirs, sequences);
+      }
+      pairs = risas::eval::listPairs(root, scenes, sequences);
     }
     if (args.has("pairs")) {
-      const std::vector<std::string> wanted = split(args.get("pairs"));
+      const std::vector<std::string> wanted = args.getList("pairs", "");
+      for (const std::string& label : wanted) {
+        if (std::none_of(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) { return p.label == label; })) {
+          throw risas::InputError("--pairs: no pair is labelled '" + label + "' among those of " + root +
+                                  " and the other options");
+        }
+      }
       pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) {
                     return std::find(wanted.begin(), wanted.end(), p.label) == wanted.end();
                   }), pairs.end());
