@@ -35,6 +35,48 @@ void requireFolders(const std::string& option, const std::vector<std::filesystem
   }
 }
 
+// The pairs the options ask for: a TUM folder's (--gaps, --pair-stride) or
+// the dataset's (--scenes, --sequences), then those labelled in --pairs.
+std::vector<risas::eval::Pair> pairsFrom(const risas::cli::Args& args, const std::string& root, bool tum,
+                                         const std::string& all_sequences) {
+  std::vector<risas::eval::Pair> pairs;
+  if (tum) {
+    std::vector<int> gaps;
+    for (const std::string& g : args.getList("gaps", "1")) {
+      std::istringstream in(g);
+      int gap = 0;
+      if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
+      gaps.push_back(gap);
+    }
+    pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
+                                      args.getInt("pair-stride", 1, 1, 1000000));
+  } else {
+    const std::vector<std::string> scenes = args.getList("scenes", "texture,geometry"),
+                                   sequences = args.getList("sequences", all_sequences);
+    // The folders named are there; of the defaults, those there are evaluated.
+    if (args.has("scenes")) requireFolders("scenes", {root}, scenes);
+    if (args.has("sequences")) {
+      std::vector<std::filesystem::path> scene_dirs;
+      for (const std::string& scene : scenes) scene_dirs.push_back(std::filesystem::path(root) / scene);
+      requireFolders("sequences", scene_dirs, sequences);
+    }
+    pairs = risas::eval::listPairs(root, scenes, sequences);
+  }
+  if (args.has("pairs")) {
+    const std::vector<std::string> wanted = args.getList("pairs", "");
+    for (const std::string& label : wanted) {
+      if (std::none_of(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) { return p.label == label; })) {
+        throw risas::InputError("--pairs: no pair is labelled '" + label + "' among those of " + root +
+                                " and the other options");
+      }
+    }
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) {
+                  return std::find(wanted.begin(), wanted.end(), p.label) == wanted.end();
+                }), pairs.end());
+  }
+  return pairs;
+}
+
 // The paper's parameter studies as RISAS variants.
 std::vector<std::unique_ptr<risas::eval::FeatureMethod>> studyMethods(const std::string& study,
                                                                       const risas::RisasParams& base) {
@@ -149,41 +191,7 @@ int main(int argc, char** argv) {
     } else {
       for (const std::string& m : args.getList("methods", all_methods)) methods.push_back(risas::eval::makeMethod(m, params));
     }
-    std::vector<risas::eval::Pair> pairs;
-    if (tum) {
-      std::vector<int> gaps;
-      for (const std::string& g : args.getList("gaps", "1")) {
-        std::istringstream in(g);
-        int gap = 0;
-        if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
-        gaps.push_back(gap);
-      }
-      pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
-                                        args.getInt("pair-stride", 1, 1, 1000000));
-    } else {
-      const std::vector<std::string> scenes = args.getList("scenes", "texture,geometry"),
-                                     sequences = args.getList("sequences", all_sequences);
-      // The folders named are there; of the defaults, those there are evaluated.
-      if (args.has("scenes")) requireFolders("scenes", {root}, scenes);
-      if (args.has("sequences")) {
-        std::vector<std::filesystem::path> scene_dirs;
-        for (const std::string& scene : scenes) scene_dirs.push_back(std::filesystem::path(root) / scene);
-        requireFolders("sequences", scene_dirs, sequences);
-      }
-      pairs = risas::eval::listPairs(root, scenes, sequences);
-    }
-    if (args.has("pairs")) {
-      const std::vector<std::string> wanted = args.getList("pairs", "");
-      for (const std::string& label : wanted) {
-        if (std::none_of(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) { return p.label == label; })) {
-          throw risas::InputError("--pairs: no pair is labelled '" + label + "' among those of " + root +
-                                  " and the other options");
-        }
-      }
-      pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const risas::eval::Pair& p) {
-                    return std::find(wanted.begin(), wanted.end(), p.label) == wanted.end();
-                  }), pairs.end());
-    }
+    const std::vector<risas::eval::Pair> pairs = pairsFrom(args, root, tum, all_sequences);
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
     risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
