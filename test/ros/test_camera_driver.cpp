@@ -5,6 +5,7 @@
 #include "risas/ros/rgbd_camera_driver.hpp"
 #include "risas/synthetic_scene.hpp"
 
+#include <image_geometry/pinhole_camera_model.h>
 #include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
@@ -189,6 +190,48 @@ TEST(CameraDriver, ACalibrationServesTheModesThatDivideItsSize) {
   CameraSettings larger;
   larger.mode = {1280, 960, 30};
   EXPECT_FALSE(Harness(larger).driver->cameraInfoFromCalibration(vga));
+}
+
+// openni2.launch rectifies the 320x240 mode with image_proc's rectify, which
+// undistorts through image_geometry's PinholeCameraModel::rectifyImage with
+// the binned camera_info above. A distorted 640x480 calibration must then
+// rectify the binned image as it rectifies the full one, reduced.
+TEST(CameraDriver, ABinnedCalibrationRectifiesAsTheFullOneReduced) {
+  sensor_msgs::CameraInfo vga = cameraInfoFromIntrinsics(risas::Intrinsics(525.0, 525.0, 319.5, 239.5), cv::Size(640, 480));
+  vga.distortion_model = "plumb_bob";
+  vga.D = {0.2, -0.4, 0.001, -0.002, 0.1};  // strong enough to move the corners by tens of pixels
+  vga.P = {520.0, 0.0, 320.0, 0.0, 0.0, 520.0, 240.0, 0.0, 0.0, 0.0, 1.0, 0.0};
+  CameraSettings qvga_mode;
+  qvga_mode.mode = {320, 240, 30};
+  const auto binned = Harness(qvga_mode).driver->cameraInfoFromCalibration(vga);
+  ASSERT_TRUE(binned);
+
+  cv::Mat raw(480, 640, CV_8UC1);
+  for (int v = 0; v < raw.rows; ++v) {
+    for (int u = 0; u < raw.cols; ++u) raw.at<uchar>(v, u) = ((u / 20 + v / 20) % 2) ? 220 : 20;  // 20 px squares
+  }
+  cv::Mat raw_reduced;
+  cv::resize(raw, raw_reduced, cv::Size(320, 240), 0, 0, cv::INTER_AREA);
+
+  image_geometry::PinholeCameraModel full, reduced;
+  full.fromCameraInfo(vga);
+  reduced.fromCameraInfo(*binned);
+  cv::Mat rectified_full, rectified_reduced, expected;
+  full.rectifyImage(raw, rectified_full, cv::INTER_LINEAR);
+  reduced.rectifyImage(raw_reduced, rectified_reduced, cv::INTER_LINEAR);
+  ASSERT_EQ(rectified_reduced.size(), cv::Size(320, 240));
+  cv::resize(rectified_full, expected, cv::Size(320, 240), 0, 0, cv::INTER_AREA);
+  cv::Mat difference;
+  cv::absdiff(rectified_reduced, expected, difference);
+  EXPECT_LT(cv::mean(difference)[0], 2.0);  // measured 0.47: the squares' edges resampled at two sizes
+  cv::absdiff(raw_reduced, expected, difference);
+  EXPECT_GT(cv::mean(difference)[0], 20.0);  // the distortion does move the pattern (measured 67)
+
+  const cv::Point2d corner_full = full.rectifyPoint(cv::Point2d(100.0, 80.0));
+  const cv::Point2d corner_reduced = reduced.rectifyPoint(cv::Point2d(50.0, 40.0));
+  EXPECT_NEAR(corner_reduced.x, corner_full.x / 2.0, 0.01);
+  EXPECT_NEAR(corner_reduced.y, corner_full.y / 2.0, 0.01);
+  EXPECT_GT(cv::norm(corner_full - cv::Point2d(100.0, 80.0)), 5.0);
 }
 
 TEST(CameraDriver, TimeoutsAndALostDeviceAreReported) {
