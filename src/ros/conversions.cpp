@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <type_traits>
 
@@ -144,6 +145,17 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
                      intrinsicsOf(model), rgb_order ? ColorOrder::RGB : ColorOrder::BGR);
   } catch (const cv::Exception& e) {  // none is known; a node must not die of one
     throw InputError(std::string("image message cannot be read: ") + e.err);
+  }
+}
+
+void requireOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval) {
+  const double apart = std::abs((color.stamp - depth.stamp).toSec());
+  if (max_interval > 0.0 && apart > max_interval) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "colour and depth are stamped %.3f s apart, more than ~approximate_sync_max_interval (%g s)", apart,
+                  max_interval);
+    throw InputError(text);
   }
 }
 

@@ -162,6 +162,22 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image message is malformed");
 }
 
+// Colour and depth of two moments are refused with the interval and the
+// parameter that bounds it; 0 takes any interval.
+TEST(Conversions, ColourAndDepthOfTwoMomentsAreRefused) {
+  std_msgs::Header colour, depth;
+  colour.stamp = ros::Time(100.0);
+  depth.stamp = ros::Time(100.015);
+  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.02));
+  EXPECT_NO_THROW(requireOneMoment(depth, colour, 0.02));
+  depth.stamp = ros::Time(100.1);
+  expectInputError([&] { requireOneMoment(colour, depth, 0.02); },
+                   "colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval (0.02 s)");
+  expectInputError([&] { requireOneMoment(depth, colour, 0.02); }, "stamped 0.100 s apart");
+  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.0));
+  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.2));
+}
+
 // A camera calibrated with distortion: the rectified image's projection P
 // differs from the raw image's K, and rectified images need P (as
 // image_geometry::PinholeCameraModel says). Without P, K is what there is.

@@ -650,7 +650,13 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   send(f);
   ASSERT_TRUE(keypoints.waitForCount(3, 20.0)) << "big-endian depth gave no KeypointArray";
 
+  // Depth of another moment: ApproximateTime pairs it, the node skips it.
+  f = goodFrame(7.5);
+  f.depth.header.stamp = ros::Time(7.6);
+  send(f);
+
   send(goodFrame(8.0));
+  EXPECT_TRUE(logged("colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval"));
   ASSERT_TRUE(keypoints.waitForCount(4, 20.0)) << "risas stopped publishing after bad input";
   const auto arrays = keypoints.messages();
   ASSERT_EQ(arrays.size(), 4u) << "a bad frame produced features";
@@ -717,7 +723,8 @@ TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
     const auto [status, output] = runRisasNode("__name:=risas_" + name + " _" + misspelt);
     EXPECT_EQ(status, 1) << output;
     EXPECT_NE(output.find("unknown parameter ~" + name + " (a typo?); this node reads always_subscribe, "
-                          "approximate_sync, depth_image_transport, descriptor, detector, geometry, image,"),
+                          "approximate_sync, approximate_sync_max_interval, depth_image_transport, descriptor, detector, "
+                          "geometry, image,"),
               std::string::npos)
         << output;
   }
