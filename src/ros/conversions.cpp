@@ -148,15 +148,21 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
   }
 }
 
-void requireOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval) {
+std::string checkOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval) {
   const double apart = std::abs((color.stamp - depth.stamp).toSec());
+  char text[200];
   if (max_interval > 0.0 && apart > max_interval) {
-    char text[160];
     std::snprintf(text, sizeof text,
                   "colour and depth are stamped %.3f s apart, more than ~approximate_sync_max_interval (%g s)", apart,
                   max_interval);
     throw InputError(text);
   }
+  if (apart <= kOneMomentInterval) return "";
+  std::snprintf(text, sizeof text,
+                "colour and depth are stamped %.3f s apart: the depth is of another moment (a bound on it, "
+                "~approximate_sync_max_interval, skips such pairs)",
+                apart);
+  return text;
 }
 
 KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& header,

@@ -12,9 +12,9 @@
 // It subscribes only while someone listens (unless ~always_subscribe), with
 // the transports ~image_transport (colour) and ~depth_image_transport (depth),
 // both raw by default; a lossy depth transport or one that is not installed
-// stops the nodelet at start with an error naming it. A pair of colour and
-// depth stamped more than ~approximate_sync_max_interval apart is skipped
-// with an error: the depth shows another moment.
+// stops the nodelet at start with an error naming it. Colour and depth
+// stamped more than 0.02 s apart are warned of (the depth shows another
+// moment), and skipped beyond ~approximate_sync_max_interval when it is set.
 #include "risas/errors.hpp"
 #include "risas/matcher.hpp"
 #include "risas/motion.hpp"
@@ -95,8 +95,7 @@ class RisasNodelet : public nodelet::Nodelet {
       queue_size_ = params.whole("queue_size", 5, 1, 1000);
       always_subscribe_ = params.flag("always_subscribe", false);
       approximate = params.flag("approximate_sync", true);
-      // The TUM tools' pairing tolerance: a 30 Hz camera's free-running streams lie within 17 ms.
-      max_sync_interval_ = params.number("approximate_sync_max_interval", 0.02, 0.0, 3600.0);
+      max_sync_interval_ = params.number("approximate_sync_max_interval", 0.0, 0.0, 3600.0);
       setup_ = std::make_shared<const Setup>(params.risas());
       // As depth_image_proc: ~image_transport for colour, ~depth_image_transport for depth.
       const std::vector<std::string> loadable = rgb_it_->getLoadableTransports();
@@ -221,10 +220,11 @@ class RisasNodelet : public nodelet::Nodelet {
       last_frame_ = ros::WallTime::now();
     }
     const std::shared_ptr<const Setup> setup = current();
+    // One key for every interval: the text changes with each pair's stamps.
     try {
-      requireOneMoment(rgb->header, depth->header, max_sync_interval_);
+      const std::string warning = checkOneMoment(rgb->header, depth->header, max_sync_interval_);
+      if (!warning.empty() && stamp_warnings_.shouldLog("stamps apart")) NODELET_WARN("%s", warning.c_str());
     } catch (const InputError& e) {
-      // One key for every interval: the text changes with each pair's stamps.
       if (input_errors_.shouldLog("stamps apart")) NODELET_ERROR("skipping frame: %s", e.what());
       return;
     }
@@ -281,7 +281,7 @@ class RisasNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   int queue_size_ = 5;
-  double max_sync_interval_ = 0.02;  // s; 0: any
+  double max_sync_interval_ = 0.0;  // s; 0: no bound
   bool always_subscribe_ = false;
 
   std::mutex connect_mutex_;  // guards subscribed_, last_frame_ and the (un)subscribing
@@ -300,6 +300,7 @@ class RisasNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<risas::RisasMatchConfig>> match_server_;
 
   LogThrottle input_errors_{5.0};
+  LogThrottle stamp_warnings_{5.0};
   std::mutex frame_mutex_;  // frames are matched in arrival order, one at a time
   std::optional<PreviousFrame> previous_;
 };

@@ -162,20 +162,24 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image message is malformed");
 }
 
-// Colour and depth of two moments are refused with the interval and the
-// parameter that bounds it; 0 takes any interval.
-TEST(Conversions, ColourAndDepthOfTwoMomentsAreRefused) {
+// Colour and depth of two moments: beyond the bound refused with the
+// interval and the parameter that bounds it (0: no bound); beyond 0.02 s a
+// warning; within it nothing.
+TEST(Conversions, ColourAndDepthOfTwoMomentsAreWarnedOfOrRefused) {
   std_msgs::Header colour, depth;
   colour.stamp = ros::Time(100.0);
   depth.stamp = ros::Time(100.015);
-  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.02));
-  EXPECT_NO_THROW(requireOneMoment(depth, colour, 0.02));
+  EXPECT_EQ(checkOneMoment(colour, depth, 0.0), "");
+  EXPECT_EQ(checkOneMoment(depth, colour, 0.02), "");
+  expectInputError([&] { checkOneMoment(colour, depth, 0.01); }, "stamped 0.015 s apart");  // a bound below 0.02 s
   depth.stamp = ros::Time(100.1);
-  expectInputError([&] { requireOneMoment(colour, depth, 0.02); },
-                   "colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval (0.02 s)");
-  expectInputError([&] { requireOneMoment(depth, colour, 0.02); }, "stamped 0.100 s apart");
-  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.0));
-  EXPECT_NO_THROW(requireOneMoment(colour, depth, 0.2));
+  EXPECT_EQ(checkOneMoment(colour, depth, 0.0),
+            "colour and depth are stamped 0.100 s apart: the depth is of another moment (a bound on it, "
+            "~approximate_sync_max_interval, skips such pairs)");
+  EXPECT_NE(checkOneMoment(depth, colour, 0.2), "");
+  expectInputError([&] { checkOneMoment(colour, depth, 0.05); },
+                   "colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval (0.05 s)");
+  expectInputError([&] { checkOneMoment(depth, colour, 0.05); }, "stamped 0.100 s apart");
 }
 
 // A camera calibrated with distortion: the rectified image's projection P

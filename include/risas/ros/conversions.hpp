@@ -54,12 +54,14 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, c
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
                             const sensor_msgs::CameraInfo& info);
 
-// Colour and depth must show one moment: InputError when their stamps lie
-// more than max_interval seconds apart (0: any interval is taken). An
-// ApproximateTime synchroniser pairs the nearest messages it holds however
-// far apart they are, and a depth image of another moment gives a moving
-// camera's keypoints 3D points off by the motion over the gap.
-void requireOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval);
+// Whether colour and depth show one moment. An ApproximateTime synchroniser
+// pairs the nearest messages it holds however far apart they are, and depth
+// of another moment puts a moving camera's points where they were then.
+// InputError when the stamps lie more than max_interval seconds apart (0: no
+// bound, as depth_image_proc and rtabmap's default); else a warning's text
+// when they lie more than kOneMomentInterval apart, and "" when within it.
+inline constexpr double kOneMomentInterval = 0.02;  // s: the TUM association's tolerance, rtabmap's warning's
+std::string checkOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval);
 
 KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& header,
                            const sensor_msgs::CameraInfo& info);
