@@ -129,6 +129,10 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
     throw InputError("depth frame_id '" + depth.header.frame_id + "' differs from colour frame_id '" +
                      color.header.frame_id + "': subscribe to depth registered to the colour camera");
   }
+  if (!info.header.frame_id.empty() && info.header.frame_id != color.header.frame_id) {  // empty: a hand-made info
+    throw InputError("camera_info frame_id '" + info.header.frame_id + "' differs from colour frame_id '" +
+                     color.header.frame_id + "': it calibrates another camera (subscribe to the colour camera's)");
+  }
   const image_geometry::PinholeCameraModel model = cameraModelOf(info);
   const cv::Size expected = model.reducedResolution();
   if (static_cast<uint32_t>(expected.width) != color.width || static_cast<uint32_t>(expected.height) != color.height) {

@@ -141,6 +141,13 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   m.depth.header.frame_id = "camera_depth_optical_frame";
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "differs from colour frame_id");
   m = good;
+  m.info.header.frame_id = "camera_depth_optical_frame";  // the unregistered depth camera's calibration
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); },
+                   "camera_info frame_id 'camera_depth_optical_frame' differs from colour frame_id "
+                   "'camera_rgb_optical_frame': it calibrates another camera");
+  m.info.header.frame_id.clear();  // a hand-made camera_info without a frame is taken
+  EXPECT_NO_THROW(frameFromMessages(m.rgb, m.depth, m.info));
+  m = good;
   cv::Mat small(240, 320, CV_16UC1, cv::Scalar(1000));
   m.depth = *cv_bridge::CvImage(good.depth.header, enc::TYPE_16UC1, small).toImageMsg();
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "differ in size");

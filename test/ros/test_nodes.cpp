@@ -607,7 +607,11 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   f = goodFrame(5.0);
   f.depth.header.frame_id = "camera_depth_optical_frame";
   send(f);
-  EXPECT_TRUE(logged("differs from colour frame_id"));
+  EXPECT_TRUE(logged("depth frame_id 'camera_depth_optical_frame' differs from colour frame_id"));
+  f = goodFrame(5.5);
+  f.info.header.frame_id = "camera_depth_optical_frame";
+  send(f);
+  EXPECT_TRUE(logged("camera_info frame_id 'camera_depth_optical_frame' differs from colour frame_id"));
   f = goodFrame(6.0);
   f.info.K.fill(0.0);
   f.info.P.fill(0.0);

@@ -50,7 +50,8 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, c
 // the messages' pixel buffers where it can. InputError, naming the problem,
 // on another encoding, a size mismatch between the images or with the
 // CameraInfo (its size after binning and roi), differing frame_ids (the
-// depth is not registered to the colour image), or bad intrinsics.
+// depth is not registered to the colour image, or the CameraInfo, when it
+// names a frame, is another camera's), or bad intrinsics.
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
                             const sensor_msgs::CameraInfo& info);
 
