@@ -11,6 +11,8 @@
 //        odom_path   nav_msgs/Path of the poses, for rviz (~path_length)
 //        tf          ~odom_frame_id -> child, when ~publish_tf (true)
 //   srv  ~reset      std_srvs/Empty: back to identity, path cleared
+// It follows the camera frame of the first array (after a start or a
+// reset) and skips arrays of another, with an error.
 // Parameters of the odometry, matching and RANSAC as in config/risas.yaml
 // (~odometry/min_inliers, ~match/ratio, ~motion/inlier_threshold, ...).
 #include "risas/errors.hpp"
@@ -72,12 +74,15 @@ class OdometryNodelet : public nodelet::Nodelet {
     return true;
   }
 
-  // The odometry at identity with a new keyframe, its path empty, and no
-  // previous stamp to take a twist's time from. Called under mutex_.
+  // The odometry at identity with a new keyframe, its path empty, no
+  // previous stamp to take a twist's time from, and no camera followed yet.
+  // Called under mutex_.
   void restart() {
     odometry_->reset();
     path_.poses.clear();
     last_stamp_.reset();
+    camera_frame_.clear();
+    base_T_camera_.reset();
   }
 
   // base_T_camera from tf (static), once it is known.
@@ -100,8 +105,19 @@ class OdometryNodelet : public nodelet::Nodelet {
       if (errors_.shouldLog("frame_id")) NODELET_ERROR("skipping KeypointArray: empty header.frame_id");
       return;
     }
-    std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
-    if (!base_frame_.empty() && !(base_T_camera = baseTCamera(camera_frame))) return;
+    // One odometry follows one camera: another camera's arrays on the same
+    // topic would be matched against this one's keyframe, and moved by its
+    // tf to the base. Checked before the stamps, so that another camera's
+    // earlier stamps do not restart the odometry.
+    if (camera_frame_.empty()) camera_frame_ = camera_frame;
+    if (camera_frame != camera_frame_) {
+      if (errors_.shouldLog("camera")) {
+        NODELET_ERROR("skipping KeypointArray of camera frame '%s': this odometry follows '%s' (~reset follows the "
+                      "next array's)",
+                      camera_frame.c_str(), camera_frame_.c_str());
+      }
+      return;
+    }
     // A stamp before the last one tracked is another recording, or the same
     // bag played again (rosbag play --loop): the odometry starts anew, as
     // from ~reset, rather than chaining the new start onto the old end.
@@ -110,7 +126,10 @@ class OdometryNodelet : public nodelet::Nodelet {
                    "identity",
                    (*last_stamp_ - message->header.stamp).toSec());
       restart();
+      camera_frame_ = camera_frame;
     }
+    std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
+    if (!base_frame_.empty() && !(base_T_camera = baseTCamera(camera_frame))) return;
 
     risas::OdometryResult r;
     try {
@@ -175,7 +194,8 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool publish_tf_ = true;
   int path_length_ = 10000;
   std::optional<std::string> last_descriptor_;  // the last message's descriptor size and layout
-  std::optional<Eigen::Isometry3d> base_T_camera_;
+  std::string camera_frame_;  // of the arrays followed; empty until the first after a start or reset
+  std::optional<Eigen::Isometry3d> base_T_camera_;  // of camera_frame_
   std::optional<ros::Time> last_stamp_;  // of the last message given to the odometry
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

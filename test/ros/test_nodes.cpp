@@ -466,8 +466,25 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
       },
       10.0))
       << "no error for a malformed KeypointArray";
+  // Another camera's array on the same topic is skipped by name.
+  array.header.frame_id = "other_camera_optical_frame";
+  array.header.stamp = ros::Time::now();
+  bad.publish(array);
+  EXPECT_TRUE(log.waitFor(
+      [](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [](const auto& l) {
+          return l->level == rosgraph_msgs::Log::ERROR &&
+                 l->msg.find("skipping KeypointArray of camera frame 'other_camera_optical_frame': this odometry "
+                             "follows 'camera_rgb_optical_frame'") != std::string::npos;
+        });
+      },
+      10.0))
+      << "no error for another camera's KeypointArray";
   const size_t before = odom.messages().size();
   EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
+  const auto after = odom.messages();
+  EXPECT_TRUE(std::all_of(after.begin() + static_cast<std::ptrdiff_t>(before), after.end(),
+                          [](const auto& o) { return o->child_frame_id == "camera_rgb_optical_frame"; }));
 }
 
 TEST(Odometry, ANewDescriptorLayoutStartsANewKeyframeAndTrackingGoesOn) {
