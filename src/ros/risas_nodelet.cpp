@@ -73,6 +73,7 @@ class RisasNodelet : public nodelet::Nodelet {
  private:
   // What the next frame needs of the last one.
   struct PreviousFrame {
+    std::string frame_id;
     cv::Mat gray;
     Features features;
   };
@@ -223,7 +224,7 @@ class RisasNodelet : public nodelet::Nodelet {
     // One key for every interval: the text changes with each pair's stamps.
     try {
       const std::string warning = checkOneMoment(rgb->header, depth->header, max_sync_interval_);
-      if (!warning.empty() && stamp_warnings_.shouldLog("stamps apart")) NODELET_WARN("%s", warning.c_str());
+      if (!warning.empty() && warnings_.shouldLog("stamps apart")) NODELET_WARN("%s", warning.c_str());
     } catch (const InputError& e) {
       if (input_errors_.shouldLog("stamps apart")) NODELET_ERROR("skipping frame: %s", e.what());
       return;
@@ -242,8 +243,14 @@ class RisasNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(frame_mutex_);
     std::vector<cv::DMatch> matches;
     MotionEstimate motion;
-    if (previous_ && (previous_->features.descriptors.cols != features.descriptors.cols ||
-                      !risas::layoutsAgree(previous_->features.descriptor_layout, features.descriptor_layout))) {
+    if (previous_ && previous_->frame_id != rgb->header.frame_id) {
+      // Two cameras on the same topics: a motion between them means nothing.
+      if (warnings_.shouldLog("camera changed")) {
+        NODELET_WARN("camera frame changed from '%s' to '%s': not matching across the change",
+                     previous_->frame_id.c_str(), rgb->header.frame_id.c_str());
+      }
+    } else if (previous_ && (previous_->features.descriptors.cols != features.descriptors.cols ||
+                             !risas::layoutsAgree(previous_->features.descriptor_layout, features.descriptor_layout))) {
       NODELET_INFO("descriptor changed to %d-d, layout '%s': not matching across the change",
                    features.descriptors.cols, features.descriptor_layout.c_str());
     } else if (previous_) {
@@ -270,7 +277,7 @@ class RisasNodelet : public nodelet::Nodelet {
                                                features.keypoints, matches, motion.inliers, caption.str());
       pub_image_.publish(cv_bridge::CvImage(rgb->header, sensor_msgs::image_encodings::BGR8, overlay).toImageMsg());
     }
-    previous_ = PreviousFrame{frame->gray(), std::move(features)};
+    previous_ = PreviousFrame{rgb->header.frame_id, frame->gray(), std::move(features)};
   }
 
   // Subscriptions and their synchronisation.
@@ -300,7 +307,7 @@ class RisasNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<risas::RisasMatchConfig>> match_server_;
 
   LogThrottle input_errors_{5.0};
-  LogThrottle stamp_warnings_{5.0};
+  LogThrottle warnings_{5.0};
   std::mutex frame_mutex_;  // frames are matched in arrival order, one at a time
   std::optional<PreviousFrame> previous_;
 };

@@ -556,6 +556,7 @@ class BadInput : public ::testing::Test {
  protected:
   ros::NodeHandle nh;
   Recorder<risas::KeypointArray> keypoints{nh, "/risas/keypoints"};
+  Recorder<geometry_msgs::TransformStamped> motion{nh, "/risas/motion"};
   Recorder<rosgraph_msgs::Log> log{nh, "/rosout"};
   ros::Publisher rgb = nh.advertise<sensor_msgs::Image>("/camera/rgb/image_rect_color", 10);
   ros::Publisher depth = nh.advertise<sensor_msgs::Image>("/camera/depth_registered/image_raw", 10);
@@ -685,17 +686,34 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   EXPECT_TRUE(logged("colour and depth are stamped 0.030 s apart: the depth is of another moment",
                      rosgraph_msgs::Log::WARN));
 
-  send(goodFrame(8.0));
+  // Another camera on the same topics: described, not matched with this
+  // one's frames (no motion into it, nor back out of it).
+  f = goodFrame(7.8);
+  f.rgb.header.frame_id = f.depth.header.frame_id = f.info.header.frame_id = "other_camera_optical_frame";
+  send(f);
   EXPECT_TRUE(logged("colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval (0.05 s)"));
-  ASSERT_TRUE(keypoints.waitForCount(5, 20.0)) << "risas stopped publishing after bad input";
+  EXPECT_TRUE(logged("camera frame changed from 'camera_rgb_optical_frame' to 'other_camera_optical_frame': not "
+                     "matching across the change",
+                     rosgraph_msgs::Log::WARN));
+
+  send(goodFrame(8.0));
+  ASSERT_TRUE(keypoints.waitForCount(6, 20.0)) << "risas stopped publishing after bad input";
   const auto arrays = keypoints.messages();
-  ASSERT_EQ(arrays.size(), 5u) << "a bad frame produced features";
+  ASSERT_EQ(arrays.size(), 6u) << "a bad frame produced features";
   EXPECT_EQ(arrays[1]->header.stamp, ros::Time(7.3));
   EXPECT_EQ(arrays[2]->header.stamp, ros::Time(7.4));
   EXPECT_EQ(arrays[1]->keypoints.size(), arrays[0]->keypoints.size()) << "the odd-step depth was read differently";
   EXPECT_EQ(arrays[2]->keypoints.size(), arrays[0]->keypoints.size()) << "the big-endian depth was read differently";
   EXPECT_EQ(arrays[3]->header.stamp, ros::Time(7.5));
-  EXPECT_EQ(arrays[4]->header.stamp, ros::Time(8.0));
+  EXPECT_EQ(arrays[4]->header.frame_id, "other_camera_optical_frame");
+  EXPECT_EQ(arrays[5]->header.stamp, ros::Time(8.0));
+  const auto motions = motion.messages();
+  const auto motionAt = [&](double stamp) {
+    return std::any_of(motions.begin(), motions.end(), [&](const auto& m) { return m->header.stamp == ros::Time(stamp); });
+  };
+  EXPECT_TRUE(motionAt(7.5)) << "no motion between two frames of one camera";
+  EXPECT_FALSE(motionAt(7.8)) << "a motion into another camera's frame";
+  EXPECT_FALSE(motionAt(8.0)) << "a motion out of another camera's frame";
 }
 
 // --------------------------------------------------------------------- Bag --
