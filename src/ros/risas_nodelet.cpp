@@ -1,6 +1,6 @@
 // risas/RisasNodelet: a thin ROS shell over the core library. It synchronises
 // registered colour, depth and camera_info, runs RISAS on each frame, matches
-// the frame to the previous one, and publishes
+// the frame to the previous one of the same camera frame, and publishes
 //   ~keypoints  risas/KeypointArray (features, 3D points, descriptors)
 //   ~image      bgr8 overlay: previous frame left, current right, RANSAC
 //               inliers green, outliers red
