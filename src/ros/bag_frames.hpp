@@ -6,6 +6,8 @@
 #include "risas/errors.hpp"
 #include "risas/rgbd_frame.hpp"
 #include "risas/ros/conversions.hpp"
+#include "risas/ros/node_params.hpp"
+#include "../tools/cli.hpp"
 
 #include <cv_bridge/cv_bridge.h>
 #include <rosbag/bag.h>
@@ -15,6 +17,16 @@
 #include <string>
 
 namespace risas_ros {
+
+// The tools' --frame-id (the images' and camera_info's frame): a tf frame id
+// as the nodes' frame parameters take it, else wrong usage.
+inline std::string frameIdOption(const risas::cli::Args& args) {
+  const std::string id = args.get("frame-id", "camera_rgb_optical_frame");
+  if (!isTfFrameId(id)) {
+    throw risas::cli::UsageError(std::string("--frame-id must be ") + kTfFrameIdRule + " (got '" + id + "')");
+  }
+  return id;
+}
 
 // A bag open for writing whose failures (a full disk, a lost mount) are
 // InputErrors naming it. rosbag::Bag's destructor closes the bag, writing

@@ -72,6 +72,25 @@ std::string textValue(const std::string& name, XmlRpc::XmlRpcValue& value) {
   return static_cast<std::string>(value);
 }
 
+bool isTfFrameId(const std::string& id) { return !id.empty() && id.front() != '/'; }
+
+std::string frameIdValue(const std::string& name, XmlRpc::XmlRpcValue& value) {
+  const std::string id = textValue(name, value);
+  if (!isTfFrameId(id)) refuse(name, kTfFrameIdRule, value);
+  return id;
+}
+
+void requireDistinctFrames(const std::vector<std::pair<std::string, std::string>>& frames) {
+  for (size_t i = 0; i < frames.size(); ++i) {
+    for (size_t j = i + 1; j < frames.size(); ++j) {
+      if (!frames[i].second.empty() && frames[i].second == frames[j].second) {
+        throw std::invalid_argument(frames[i].first + " and " + frames[j].first + " name one frame '" +
+                                    frames[i].second + "': they must differ");
+      }
+    }
+  }
+}
+
 bool NodeParams::flag(const std::string& key, bool fallback) {
   read_.insert(key);
   return fromServer(pnh_, key, fallback, flagValue);
@@ -92,6 +111,11 @@ double NodeParams::number(const std::string& key, double fallback, double lo, do
 std::string NodeParams::text(const std::string& key, const std::string& fallback) {
   read_.insert(key);
   return fromServer(pnh_, key, fallback, textValue);
+}
+
+std::string NodeParams::frameId(const std::string& key, const std::string& fallback) {
+  read_.insert(key);
+  return fromServer(pnh_, key, fallback, frameIdValue);
 }
 
 risas::RisasParams NodeParams::risas() {

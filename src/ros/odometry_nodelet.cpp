@@ -47,8 +47,9 @@ class OdometryNodelet : public nodelet::Nodelet {
     try {
       NodeParams params(pnh);
       params_ = params.risas();
-      odom_frame_ = params.text("odom_frame_id", "odom");
-      base_frame_ = params.text("base_frame_id", "");
+      odom_frame_ = params.frameId("odom_frame_id", "odom");
+      base_frame_ = params.frameId("base_frame_id", "");  // not set: the camera's pose
+      requireDistinctFrames({{"~odom_frame_id", odom_frame_}, {"~base_frame_id", base_frame_}});
       publish_tf_ = params.flag("publish_tf", true);
       path_length_ = params.whole("path_length", 10000, 0, 10000000);
       params.refuseUnread();
@@ -103,6 +104,14 @@ class OdometryNodelet : public nodelet::Nodelet {
     const std::string& camera_frame = message->header.frame_id;
     if (camera_frame.empty()) {
       if (errors_.shouldLog("frame_id")) NODELET_ERROR("skipping KeypointArray: empty header.frame_id");
+      return;
+    }
+    if (camera_frame == odom_frame_) {
+      if (errors_.shouldLog("odom frame")) {
+        NODELET_ERROR("skipping KeypointArray: its camera frame is ~odom_frame_id '%s', which cannot be its own "
+                      "parent",
+                      odom_frame_.c_str());
+      }
       return;
     }
     // One odometry follows one camera: another camera's arrays on the same

@@ -51,8 +51,8 @@ class OpenNI2CameraNodelet : public nodelet::Nodelet {
                         params.whole("fps", 30, 1, 1000)};
       settings_.depth_registration = params.flag("depth_registration", true);
       settings_.frame_sync = params.flag("frame_sync", true);
-      settings_.rgb_frame_id = params.text("rgb_frame_id", settings_.rgb_frame_id);
-      settings_.depth_frame_id = params.text("depth_frame_id", settings_.depth_frame_id);
+      settings_.rgb_frame_id = params.frameId("rgb_frame_id", settings_.rgb_frame_id);
+      settings_.depth_frame_id = params.frameId("depth_frame_id", settings_.depth_frame_id);
       always_on_ = params.flag("always_on", false);
       reconnect_ = params.flag("reconnect", true);
       url = params.text("camera_info_url", "");

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     const double rate = args.getDouble("rate", 10.0);
     if (!(rate > 0.0)) throw risas::cli::UsageError("--rate must be positive");
     const std::string ns = args.get("camera", "camera");
+    const std::string frame_id = risas_ros::frameIdOption(args);
     risas::cli::requireWritable(out);
     const risas::Intrinsics K = risas::findIntrinsics(dir);
     const std::vector<risas::SequenceFrame> frames = risas::listSequence(dir);
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
       std_msgs::Header header;
       header.seq = static_cast<uint32_t>(i);
       header.stamp = start + ros::Duration(i / rate);
-      header.frame_id = args.get("frame-id", "camera_rgb_optical_frame");
+      header.frame_id = frame_id;
       risas_ros::writeRgbdFrame(bag, ns, header, images.bgr, images.depth_mm, K);
     }
     bag.close();

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
         "and <camera>/rgb/camera_info for each associated colour/depth pair, at the colour stamps.",
         options);
     const std::string out = args.get("out"), ns = args.get("camera", "camera");
+    const std::string frame_id = risas_ros::frameIdOption(args);
     risas::cli::requireWritable(out);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
     const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_tum_to_bag", args.get("tum"));
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
       std_msgs::Header header;
       header.seq = static_cast<uint32_t>(i);
       header.stamp = ros::Time(f.stamp);
-      header.frame_id = args.get("frame-id", "camera_rgb_optical_frame");
+      header.frame_id = frame_id;
       risas_ros::writeRgbdFrame(bag, ns, header, images.bgr, images.depth_metres, K);
     }
     bag.close();

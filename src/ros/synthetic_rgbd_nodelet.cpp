@@ -38,9 +38,10 @@ class SyntheticRgbdNodelet : public nodelet::Nodelet {
     try {
       NodeParams params(pnh);
       rate = params.number("rate", 30.0, 0.01, 1000.0);
-      frame_id_ = params.text("frame_id", "camera_rgb_optical_frame");
-      world_frame_ = params.text("world_frame", "world");
-      truth_frame_ = params.text("truth_frame_id", frame_id_ + "_truth");
+      frame_id_ = params.frameId("frame_id", "camera_rgb_optical_frame");
+      world_frame_ = params.frameId("world_frame", "world");
+      truth_frame_ = params.frameId("truth_frame_id", frame_id_ + "_truth");
+      requireDistinctFrames({{"~frame_id", frame_id_}, {"~world_frame", world_frame_}, {"~truth_frame_id", truth_frame_}});
       arc_ = params.number("arc_deg", 25.0, 0.0, 180.0) * M_PI / 180.0;
       period_ = params.number("period", 12.0, 0.01, 1e6);
       params.refuseUnread();

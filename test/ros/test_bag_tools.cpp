@@ -4,6 +4,7 @@
 #include "tool_run.hpp"
 
 #include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
 #include <gtest/gtest.h>
@@ -57,6 +58,29 @@ TEST_F(BagTools, WriteEveryFrameOrFailInOneLine) {
             0u)
       << failed.output;
   EXPECT_EQ(std::count(failed.output.begin(), failed.output.end(), '\n'), 1) << failed.output;
+}
+
+// --frame-id names every message's frame, and is a tf frame id or wrong
+// usage, before any work.
+TEST_F(BagTools, TheFrameIdIsTakenWhenTfWouldTakeIt) {
+  const std::string written = (dir / "framed.bag").string();
+  const ToolRun ok =
+      run("risas_dataset_to_bag --data " + (dir / "sequence").string() + " --out " + written + " --frame-id cam2_optical");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  rosbag::Bag bag(written, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (const auto image = m.instantiate<sensor_msgs::Image>()) EXPECT_EQ(image->header.frame_id, "cam2_optical");
+    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) EXPECT_EQ(info->header.frame_id, "cam2_optical");
+  }
+  for (const std::string tool : {"risas_dataset_to_bag --data " + (dir / "sequence").string(),
+                                 "risas_tum_to_bag --tum " + (dir / "sequence").string() + " --fx 500 --fy 500 --cx 320 --cy 240"}) {
+    const ToolRun slash = run(tool + " --out " + (dir / "slash.bag").string() + " --frame-id /cam2_optical");
+    EXPECT_EQ(slash.exit_code, 2) << slash.output;
+    EXPECT_NE(slash.output.find("--frame-id must be a tf frame id: not empty, no leading '/' (got '/cam2_optical')"),
+              std::string::npos)
+        << slash.output;
+    EXPECT_FALSE(fs::exists(dir / "slash.bag"));
+  }
 }
 
 // While it lives, files this process writes stop at `bytes`: a write

@@ -657,6 +657,35 @@ TEST(NodeParams, GivenValuesAreTakenAndWrongOnesRefusedByName) {
   EXPECT_NE(refusal(frame, true).find("~frame_id must be text"), std::string::npos);
 }
 
+// Frame parameters are tf frame ids, and a node's frames differ: tf2 refuses
+// an empty id, one with a leading '/', and a frame that is its own parent.
+TEST(NodeParams, FrameIdsAreTfsAndANodesFramesDiffer) {
+  const auto refusal = [](XmlRpc::XmlRpcValue value) {
+    try {
+      frameIdValue("~odom_frame_id", value);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  XmlRpc::XmlRpcValue odom(std::string("odom")), nested(std::string("robot1/odom"));
+  EXPECT_EQ(frameIdValue("~odom_frame_id", odom), "odom");
+  EXPECT_EQ(frameIdValue("~odom_frame_id", nested), "robot1/odom");
+  EXPECT_EQ(refusal(std::string("/odom")),
+            "~odom_frame_id must be a tf frame id: not empty, no leading '/' (got <value>/odom</value>)");
+  EXPECT_NE(refusal(std::string("")).find("~odom_frame_id must be a tf frame id"), std::string::npos);
+  EXPECT_NE(refusal(3.5).find("~odom_frame_id must be text"), std::string::npos);
+
+  EXPECT_NO_THROW(requireDistinctFrames({{"~odom_frame_id", "odom"}, {"~base_frame_id", ""}}));
+  EXPECT_NO_THROW(requireDistinctFrames({{"~a", "x"}, {"~b", "y"}, {"~c", "z"}}));
+  try {
+    requireDistinctFrames({{"~frame_id", "cam"}, {"~world_frame", "world"}, {"~truth_frame_id", "cam"}});
+    FAIL() << "one frame named twice was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "~frame_id and ~truth_frame_id name one frame 'cam': they must differ");
+  }
+}
+
 // The names under a node's private namespace that nothing reads: each
 // first-level name once, below the namespace only (not a sibling sharing its
 // prefix), whatever lies under a name that is read.

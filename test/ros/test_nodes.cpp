@@ -480,6 +480,19 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
       },
       10.0))
       << "no error for another camera's KeypointArray";
+  // An array in the odom frame itself would make it its own parent on tf.
+  array.header.frame_id = "odom";
+  array.header.stamp = ros::Time::now();
+  bad.publish(array);
+  EXPECT_TRUE(log.waitFor(
+      [](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [](const auto& l) {
+          return l->level == rosgraph_msgs::Log::ERROR &&
+                 l->msg.find("skipping KeypointArray: its camera frame is ~odom_frame_id 'odom'") != std::string::npos;
+        });
+      },
+      10.0))
+      << "no error for a KeypointArray in the odom frame";
   const size_t before = odom.messages().size();
   EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
   const auto after = odom.messages();

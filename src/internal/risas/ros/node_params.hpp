@@ -13,6 +13,7 @@
 
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace risas_ros {
@@ -25,6 +26,15 @@ bool flagValue(const std::string& name, XmlRpc::XmlRpcValue& value);
 int intValue(const std::string& name, XmlRpc::XmlRpcValue& value, int lo, int hi);
 double numberValue(const std::string& name, XmlRpc::XmlRpcValue& value, double lo, double hi);
 std::string textValue(const std::string& name, XmlRpc::XmlRpcValue& value);
+// A tf frame id: not empty and without a leading '/', which tf2 refuses in
+// every lookup (an empty frame, or ROS 1 Groovy's "/odom").
+bool isTfFrameId(const std::string& id);
+inline const char* const kTfFrameIdRule = "a tf frame id: not empty, no leading '/'";
+std::string frameIdValue(const std::string& name, XmlRpc::XmlRpcValue& value);
+// std::invalid_argument when two of the (name, frame id) pairs, empty ids
+// left out, name one frame: a node would publish a frame as its own parent,
+// which tf2 refuses at every listener.
+void requireDistinctFrames(const std::vector<std::pair<std::string, std::string>>& frames);
 
 // A node's private namespace read whole: each parameter as above (the
 // fallback when it is not set), the algorithm's sections by
@@ -40,6 +50,7 @@ class NodeParams {
   int whole(const std::string& key, int fallback, int lo, int hi);
   double number(const std::string& key, double fallback, double lo, double hi);
   std::string text(const std::string& key, const std::string& fallback);
+  std::string frameId(const std::string& key, const std::string& fallback);
   risas::RisasParams risas();  // paramsFromServer
   // Names that others read under the namespace: image_transport's hints
   // (~image_transport), a publisher's transport plugins (~image/compressed/...).
