@@ -102,8 +102,10 @@ class OdometryNodelet : public nodelet::Nodelet {
   void onKeypoints(const risas::KeypointArrayConstPtr& message) {
     std::lock_guard<std::mutex> lock(mutex_);
     const std::string& camera_frame = message->header.frame_id;
-    if (camera_frame.empty()) {
-      if (errors_.shouldLog("frame_id")) NODELET_ERROR("skipping KeypointArray: empty header.frame_id");
+    if (!isTfFrameId(camera_frame)) {  // it becomes the child frame on tf
+      if (errors_.shouldLog("frame_id")) {
+        NODELET_ERROR("skipping KeypointArray: header.frame_id '%s' is not %s", camera_frame.c_str(), kTfFrameIdRule);
+      }
       return;
     }
     if (camera_frame == odom_frame_) {

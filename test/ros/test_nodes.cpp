@@ -493,6 +493,19 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
       },
       10.0))
       << "no error for a KeypointArray in the odom frame";
+  array.header.frame_id = "/camera_rgb_optical_frame";  // tf2 refuses a leading '/'
+  array.header.stamp = ros::Time::now();
+  bad.publish(array);
+  EXPECT_TRUE(log.waitFor(
+      [](const auto& m) {
+        return std::any_of(m.begin(), m.end(), [](const auto& l) {
+          return l->level == rosgraph_msgs::Log::ERROR &&
+                 l->msg.find("skipping KeypointArray: header.frame_id '/camera_rgb_optical_frame' is not a tf frame "
+                             "id: not empty, no leading '/'") != std::string::npos;
+        });
+      },
+      10.0))
+      << "no error for a KeypointArray whose frame tf2 refuses";
   const size_t before = odom.messages().size();
   EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
   const auto after = odom.messages();
