@@ -447,64 +447,39 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   EXPECT_LT(worst_translation, 0.04);
   EXPECT_LT(worst_rotation, 1.5);
 
-  // A malformed array (fewer descriptor values than keypoints x dim) is
-  // skipped with an error naming the problem, and odometry goes on.
+  // Bad arrays are skipped, each with an error naming the problem, and
+  // odometry goes on: a malformed one (fewer descriptor values than
+  // keypoints x dim), another camera's, and frames tf would refuse.
   ros::Publisher bad = nh.advertise<risas::KeypointArray>("/risas/keypoints", 1, true);
   risas::KeypointArray array;
-  array.header.frame_id = "camera_rgb_optical_frame";
-  array.header.stamp = ros::Time::now();
   array.keypoints.resize(5);
   array.descriptor_dim = 192;
   array.descriptors.resize(10);
   ros::WallDuration(0.5).sleep();
-  bad.publish(array);
-  EXPECT_TRUE(log.waitFor(
-      [](const auto& m) {
-        return std::any_of(m.begin(), m.end(), [](const auto& l) {
-          return l->level == rosgraph_msgs::Log::ERROR && l->msg.find("skipping KeypointArray") != std::string::npos;
-        });
-      },
-      10.0))
+  const auto skippedNaming = [&](const std::string& frame_id, const std::string& fragment) {
+    array.header.frame_id = frame_id;
+    array.header.stamp = ros::Time::now();
+    bad.publish(array);
+    return log.waitFor(
+        [&](const auto& m) {
+          return std::any_of(m.begin(), m.end(), [&](const auto& l) {
+            return l->level == rosgraph_msgs::Log::ERROR && l->msg.find(fragment) != std::string::npos;
+          });
+        },
+        10.0);
+  };
+  EXPECT_TRUE(skippedNaming("camera_rgb_optical_frame", "skipping KeypointArray: KeypointArray holds 10 descriptor"))
       << "no error for a malformed KeypointArray";
-  // Another camera's array on the same topic is skipped by name.
-  array.header.frame_id = "other_camera_optical_frame";
-  array.header.stamp = ros::Time::now();
-  bad.publish(array);
-  EXPECT_TRUE(log.waitFor(
-      [](const auto& m) {
-        return std::any_of(m.begin(), m.end(), [](const auto& l) {
-          return l->level == rosgraph_msgs::Log::ERROR &&
-                 l->msg.find("skipping KeypointArray of camera frame 'other_camera_optical_frame': this odometry "
-                             "follows 'camera_rgb_optical_frame'") != std::string::npos;
-        });
-      },
-      10.0))
+  EXPECT_TRUE(skippedNaming("other_camera_optical_frame",
+                            "skipping KeypointArray of camera frame 'other_camera_optical_frame': this odometry "
+                            "follows 'camera_rgb_optical_frame'"))
       << "no error for another camera's KeypointArray";
   // An array in the odom frame itself would make it its own parent on tf.
-  array.header.frame_id = "odom";
-  array.header.stamp = ros::Time::now();
-  bad.publish(array);
-  EXPECT_TRUE(log.waitFor(
-      [](const auto& m) {
-        return std::any_of(m.begin(), m.end(), [](const auto& l) {
-          return l->level == rosgraph_msgs::Log::ERROR &&
-                 l->msg.find("skipping KeypointArray: its camera frame is ~odom_frame_id 'odom'") != std::string::npos;
-        });
-      },
-      10.0))
+  EXPECT_TRUE(skippedNaming("odom", "skipping KeypointArray: its camera frame is ~odom_frame_id 'odom'"))
       << "no error for a KeypointArray in the odom frame";
-  array.header.frame_id = "/camera_rgb_optical_frame";  // tf2 refuses a leading '/'
-  array.header.stamp = ros::Time::now();
-  bad.publish(array);
-  EXPECT_TRUE(log.waitFor(
-      [](const auto& m) {
-        return std::any_of(m.begin(), m.end(), [](const auto& l) {
-          return l->level == rosgraph_msgs::Log::ERROR &&
-                 l->msg.find("skipping KeypointArray: header.frame_id '/camera_rgb_optical_frame' is not a tf frame "
-                             "id: not empty, no leading '/'") != std::string::npos;
-        });
-      },
-      10.0))
+  EXPECT_TRUE(skippedNaming("/camera_rgb_optical_frame",  // tf2 refuses a leading '/'
+                            "skipping KeypointArray: header.frame_id '/camera_rgb_optical_frame' is not a tf frame "
+                            "id: not empty, no leading '/'"))
       << "no error for a KeypointArray whose frame tf2 refuses";
   const size_t before = odom.messages().size();
   EXPECT_TRUE(odom.waitForCount(before + 5, 20.0)) << "odometry stopped after a bad array";
@@ -735,7 +710,8 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
   EXPECT_EQ(arrays[5]->header.stamp, ros::Time(8.0));
   const auto motions = motion.messages();
   const auto motionAt = [&](double stamp) {
-    return std::any_of(motions.begin(), motions.end(), [&](const auto& m) { return m->header.stamp == ros::Time(stamp); });
+    return std::any_of(motions.begin(), motions.end(),
+                       [&](const auto& m) { return m->header.stamp == ros::Time(stamp); });
   };
   EXPECT_TRUE(motionAt(7.5)) << "no motion between two frames of one camera";
   EXPECT_FALSE(motionAt(7.8)) << "a motion into another camera's frame";
@@ -798,8 +774,8 @@ TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
     const auto [status, output] = runRisasNode("__name:=risas_" + name + " _" + misspelt);
     EXPECT_EQ(status, 1) << output;
     EXPECT_NE(output.find("unknown parameter ~" + name + " (a typo?); this node reads always_subscribe, "
-                          "approximate_sync, approximate_sync_max_interval, depth_image_transport, descriptor, detector, "
-                          "geometry, image,"),
+                          "approximate_sync, approximate_sync_max_interval, depth_image_transport, descriptor, "
+                          "detector, geometry, image,"),
               std::string::npos)
         << output;
   }
