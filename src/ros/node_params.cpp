@@ -4,6 +4,7 @@
 #include "risas/ros/conversions.hpp"
 
 #include <ros/param.h>
+#include <ros/this_node.h>
 
 #include <cmath>
 #include <sstream>
@@ -89,6 +90,10 @@ void requireDistinctFrames(const std::vector<std::pair<std::string, std::string>
       }
     }
   }
+}
+
+NodeParams::NodeParams(const ros::NodeHandle& pnh) : pnh_(pnh) {
+  if (pnh_.getNamespace() == ros::this_node::getName()) read_.insert("num_worker_threads");
 }
 
 bool NodeParams::flag(const std::string& key, bool fallback) {

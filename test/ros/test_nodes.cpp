@@ -781,6 +781,30 @@ TEST(NodeParameters, AWrongKindOrATypoStopsTheNodeByName) {
   }
 }
 
+// ~num_worker_threads belongs to what runs the nodelet: a standalone node's
+// nodelet::Loader reads it from the node's namespace, which is the
+// nodelet's; in a manager the nodelet's own is read by no one and refused.
+TEST(NodeParameters, TheLoadersThreadCountIsTakenStandaloneOnly) {
+  const std::string id = std::to_string(::getpid());
+  const int standalone = std::system(("timeout 5 " RISAS_BIN_DIR "/synthetic_rgbd_node __name:=threads_" + id +
+                                      " _num_worker_threads:=2 > /dev/null 2>&1")
+                                         .c_str());
+  EXPECT_TRUE(WIFEXITED(standalone) && WEXITSTATUS(standalone) == 124) << "the standalone node did not keep running";
+
+  const std::string log = "/tmp/risas_manager_probe_" + id + ".log";
+  const std::string manager = "probe_manager_" + id;
+  std::system(("timeout 40 rosrun nodelet nodelet manager __name:=" + manager + " > " + log + " 2>&1 &").c_str());
+  const int load = std::system(("timeout 30 rosrun nodelet nodelet load risas/SyntheticRgbdNodelet " + manager +
+                                " __name:=probe_synthetic_" + id + " _num_worker_threads:=2 --no-bond > /dev/null 2>&1")
+                                   .c_str());
+  std::system(("pkill -f __name:=" + manager).c_str());
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::remove(log.c_str());
+  EXPECT_TRUE(WIFEXITED(load) && WEXITSTATUS(load) != 0 && WEXITSTATUS(load) != 124) << "the manager loaded it";
+  EXPECT_NE(output.find("unknown parameter ~num_worker_threads (a typo?)"), std::string::npos) << output;
+}
+
 // ---------------------------------------------------------------- NoDevice --
 
 TEST(NoDevice, TheCameraNodePrintsWhyAndExitsCleanly) {

@@ -44,7 +44,11 @@ void requireDistinctFrames(const std::vector<std::pair<std::string, std::string>
 // ~color_mode given to this package's camera did nothing.
 class NodeParams {
  public:
-  explicit NodeParams(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+  // pnh: the nodelet's private handle. A standalone node's nodelet::Loader
+  // reads ~num_worker_threads there (the node and its one nodelet share a
+  // name); in a manager the manager reads its own, so the nodelet's is
+  // unread like any other.
+  explicit NodeParams(const ros::NodeHandle& pnh);
 
   bool flag(const std::string& key, bool fallback);
   int whole(const std::string& key, int fallback, int lo, int hi);
@@ -61,7 +65,7 @@ class NodeParams {
 
  private:
   ros::NodeHandle pnh_;
-  std::set<std::string> read_ = {"num_worker_threads"};  // a standalone node's nodelet::Loader reads it
+  std::set<std::string> read_;
 };
 
 // The first-level names under `ns` among the server's `names` (full names,
