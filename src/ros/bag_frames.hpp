@@ -3,11 +3,11 @@
 // as an OpenNI camera's three topics.
 #pragma once
 
+#include "../tools/cli.hpp"
 #include "risas/errors.hpp"
 #include "risas/rgbd_frame.hpp"
 #include "risas/ros/conversions.hpp"
 #include "risas/ros/node_params.hpp"
-#include "../tools/cli.hpp"
 
 #include <cv_bridge/cv_bridge.h>
 #include <rosbag/bag.h>
