@@ -1,6 +1,6 @@
-// What the bag writers (risas_dataset_to_bag, risas_tum_to_bag) share: a
-// bag written with one-line errors, and one registered RGB-D frame written
-// as an OpenNI camera's three topics.
+// What the bag writers (risas_dataset_to_bag, risas_tum_to_bag) share: their
+// --frame-id, a bag written with one-line errors, and one registered RGB-D
+// frame written as an OpenNI camera's three topics.
 #pragma once
 
 #include "../tools/cli.hpp"
