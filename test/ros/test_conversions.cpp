@@ -708,6 +708,12 @@ TEST(LogThrottle, ReportsNewProblemsAtOnceAndRepeatsRarely) {
   EXPECT_TRUE(throttle.shouldLog("depth encoding 'mono8'"));
   EXPECT_FALSE(throttle.shouldLog("depth encoding 'mono8'"));
   EXPECT_TRUE(throttle.shouldLog("sizes differ"));
+  // Two faults alternating frame by frame are each held back, not reported every frame.
+  EXPECT_FALSE(throttle.shouldLog("depth encoding 'mono8'"));
+  EXPECT_FALSE(throttle.shouldLog("sizes differ"));
+  // It keeps the last 64 problems: the oldest of 64 new ones pushes out "depth encoding".
+  for (int i = 0; i < 63; ++i) EXPECT_TRUE(throttle.shouldLog("stamped " + std::to_string(i) + " s apart"));
+  EXPECT_FALSE(throttle.shouldLog("sizes differ"));
   EXPECT_TRUE(throttle.shouldLog("depth encoding 'mono8'"));
   LogThrottle quick(0.0);
   EXPECT_TRUE(quick.shouldLog("x"));
