@@ -236,6 +236,12 @@ class RisasNodelet : public nodelet::Nodelet {
       if (input_errors_.shouldLog(e.what())) NODELET_ERROR("skipping frame: %s", e.what());
       return;
     }
+    // Described all the same, for users who want the features alone.
+    if (!isTfFrameId(rgb->header.frame_id) && warnings_.shouldLog("frame id")) {
+      NODELET_WARN("colour frame_id '%s' is no tf frame id (empty, or a leading '/'): the keypoints, ~points and "
+                   "~motion are published but cannot be placed on tf",
+                   rgb->header.frame_id.c_str());
+    }
     Features features = setup->risas.extract(*frame);
     pub_keypoints_.publish(toMessage(features, rgb->header, *info));
     if (pub_points_.getNumSubscribers() > 0) pub_points_.publish(toPointCloud(features, rgb->header));

@@ -697,17 +697,24 @@ TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrou
                      "matching across the change",
                      rosgraph_msgs::Log::WARN));
 
+  // A frame tf cannot place: described, with a warning.
+  f = goodFrame(7.9);
+  f.rgb.header.frame_id = f.depth.header.frame_id = f.info.header.frame_id = "";
+  send(f);
+  EXPECT_TRUE(logged("colour frame_id '' is no tf frame id", rosgraph_msgs::Log::WARN));
+
   send(goodFrame(8.0));
-  ASSERT_TRUE(keypoints.waitForCount(6, 20.0)) << "risas stopped publishing after bad input";
+  ASSERT_TRUE(keypoints.waitForCount(7, 20.0)) << "risas stopped publishing after bad input";
   const auto arrays = keypoints.messages();
-  ASSERT_EQ(arrays.size(), 6u) << "a bad frame produced features";
+  ASSERT_EQ(arrays.size(), 7u) << "a bad frame produced features";
   EXPECT_EQ(arrays[1]->header.stamp, ros::Time(7.3));
   EXPECT_EQ(arrays[2]->header.stamp, ros::Time(7.4));
   EXPECT_EQ(arrays[1]->keypoints.size(), arrays[0]->keypoints.size()) << "the odd-step depth was read differently";
   EXPECT_EQ(arrays[2]->keypoints.size(), arrays[0]->keypoints.size()) << "the big-endian depth was read differently";
   EXPECT_EQ(arrays[3]->header.stamp, ros::Time(7.5));
   EXPECT_EQ(arrays[4]->header.frame_id, "other_camera_optical_frame");
-  EXPECT_EQ(arrays[5]->header.stamp, ros::Time(8.0));
+  EXPECT_EQ(arrays[5]->header.frame_id, "");
+  EXPECT_EQ(arrays[6]->header.stamp, ros::Time(8.0));
   const auto motions = motion.messages();
   const auto motionAt = [&](double stamp) {
     return std::any_of(motions.begin(), motions.end(),
