@@ -71,19 +71,18 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
     restart();
+    camera_frame_.clear();  // the next array's camera is followed
+    base_T_camera_.reset();
     NODELET_INFO("odometry reset to identity");
     return true;
   }
 
-  // The odometry at identity with a new keyframe, its path empty, no
-  // previous stamp to take a twist's time from, and no camera followed yet.
-  // Called under mutex_.
+  // The odometry at identity with a new keyframe, its path empty, and no
+  // previous stamp to take a twist's time from. Called under mutex_.
   void restart() {
     odometry_->reset();
     path_.poses.clear();
     last_stamp_.reset();
-    camera_frame_.clear();
-    base_T_camera_.reset();
   }
 
   // base_T_camera from tf (static), once it is known.
@@ -137,7 +136,6 @@ class OdometryNodelet : public nodelet::Nodelet {
                    "identity",
                    (*last_stamp_ - message->header.stamp).toSec());
       restart();
-      camera_frame_ = camera_frame;
     }
     std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
     if (!base_frame_.empty() && !(base_T_camera = baseTCamera(camera_frame))) return;
@@ -205,7 +203,7 @@ class OdometryNodelet : public nodelet::Nodelet {
   bool publish_tf_ = true;
   int path_length_ = 10000;
   std::optional<std::string> last_descriptor_;  // the last message's descriptor size and layout
-  std::string camera_frame_;  // of the arrays followed; empty until the first after a start or reset
+  std::string camera_frame_;  // of the arrays followed; empty until the first after a start or ~reset
   std::optional<Eigen::Isometry3d> base_T_camera_;  // of camera_frame_
   std::optional<ros::Time> last_stamp_;  // of the last message given to the odometry
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;

@@ -224,20 +224,20 @@ class RisasNodelet : public nodelet::Nodelet {
     // One key for every interval: the text changes with each pair's stamps.
     try {
       const std::string warning = checkOneMoment(rgb->header, depth->header, max_sync_interval_);
-      if (!warning.empty() && warnings_.shouldLog("stamps apart")) NODELET_WARN("%s", warning.c_str());
+      if (!warning.empty() && throttle_.shouldLog("stamps apart")) NODELET_WARN("%s", warning.c_str());
     } catch (const InputError& e) {
-      if (input_errors_.shouldLog("stamps apart")) NODELET_ERROR("skipping frame: %s", e.what());
+      if (throttle_.shouldLog("stamps beyond the bound")) NODELET_ERROR("skipping frame: %s", e.what());
       return;
     }
     std::optional<RgbdFrame> frame;
     try {
       frame.emplace(frameFromMessages(*rgb, *depth, *info));
     } catch (const InputError& e) {
-      if (input_errors_.shouldLog(e.what())) NODELET_ERROR("skipping frame: %s", e.what());
+      if (throttle_.shouldLog(e.what())) NODELET_ERROR("skipping frame: %s", e.what());
       return;
     }
     // Described all the same, for users who want the features alone.
-    if (!isTfFrameId(rgb->header.frame_id) && warnings_.shouldLog("frame id")) {
+    if (!isTfFrameId(rgb->header.frame_id) && throttle_.shouldLog("frame id")) {
       NODELET_WARN("colour frame_id '%s' is no tf frame id (empty, or a leading '/'): the keypoints, ~points and "
                    "~motion are published but cannot be placed on tf",
                    rgb->header.frame_id.c_str());
@@ -251,7 +251,7 @@ class RisasNodelet : public nodelet::Nodelet {
     MotionEstimate motion;
     if (previous_ && previous_->frame_id != rgb->header.frame_id) {
       // Two cameras on the same topics: a motion between them means nothing.
-      if (warnings_.shouldLog("camera changed")) {
+      if (throttle_.shouldLog("camera changed")) {
         NODELET_WARN("camera frame changed from '%s' to '%s': not matching across the change",
                      previous_->frame_id.c_str(), rgb->header.frame_id.c_str());
       }
@@ -312,8 +312,7 @@ class RisasNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<risas::RisasDescriptorConfig>> descriptor_server_;
   std::unique_ptr<dynamic_reconfigure::Server<risas::RisasMatchConfig>> match_server_;
 
-  LogThrottle input_errors_{5.0};
-  LogThrottle warnings_{5.0};
+  LogThrottle throttle_{5.0};  // each problem (an error's text, or a warning's key) at most every 5 s
   std::mutex frame_mutex_;  // frames are matched in arrival order, one at a time
   std::optional<PreviousFrame> previous_;
 };
