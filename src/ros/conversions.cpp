@@ -213,6 +213,9 @@ sensor_msgs::PointCloud2Ptr toPointCloud(const Features& features, const std_msg
   cloud->height = 1;
   cloud->width = static_cast<uint32_t>(features.geometry.size());
   cloud->is_dense = true;
+  // PointCloud2Iterator's constructor reads data.front(): undefined on an
+  // empty cloud (a frame without keypoints; UBSan names it).
+  if (features.geometry.empty()) return cloud;
   sensor_msgs::PointCloud2Iterator<float> out(*cloud, "x");
   for (size_t i = 0; i < features.geometry.size(); ++i, ++out) {
     const risas::KeypointGeometry& g = features.geometry[i];
