@@ -41,8 +41,10 @@ void RgbdCameraDriver::stop() {
 ros::Time RgbdCameraDriver::stampOf(uint64_t device_us) {
   const ros::Time now = clock_();
   if (anchor_) {
-    const ros::Time mapped = anchor_->first + ros::Duration(static_cast<double>(static_cast<int64_t>(device_us - anchor_->second)) * 1e-6);
-    if (std::abs((mapped - now).toSec()) <= 0.05) return mapped;
+    // Compared in seconds first: a device clock that jumps (reset, or a
+    // garbage value) lies beyond ros::Duration's range, which would throw.
+    const double since = static_cast<double>(static_cast<int64_t>(device_us - anchor_->second)) * 1e-6;
+    if (std::abs(anchor_->first.toSec() + since - now.toSec()) <= 0.05) return anchor_->first + ros::Duration(since);
   }
   anchor_ = std::make_pair(now, device_us);
   return now;

@@ -148,6 +148,25 @@ TEST(CameraDriver, StampsFollowTheDeviceClockButNeverDriftAway) {
   }
 }
 
+// A device clock that jumps by more than ros::Duration holds (2^31 s: a
+// garbage timestamp, or one counted from another epoch) re-anchors the
+// stamps to ROS time instead of throwing out of the camera's thread.
+TEST(CameraDriver, ADeviceClockJumpingAnyDistanceReanchorsTheStamps) {
+  Harness h;
+  h.driver->start();
+  ASSERT_TRUE(h.tick());
+  for (const uint64_t jump : {uint64_t{1} << 62, uint64_t{0}, ~uint64_t{0} - 1000000}) {
+    h.device->clock_us = jump;
+    const auto m = h.tick();
+    ASSERT_TRUE(m);
+    EXPECT_LE(std::abs((m->color->header.stamp - h.now).toSec()), 0.05) << "device clock " << jump;
+    const auto next = h.tick();
+    ASSERT_TRUE(next);
+    EXPECT_NEAR((next->color->header.stamp - m->color->header.stamp).toSec(), 0.033333, 1e-6)
+        << "the device clock followed again after " << jump;
+  }
+}
+
 TEST(CameraDriver, IntrinsicsFromTheFieldsOfView) {
   Harness h;
   const sensor_msgs::CameraInfo info = h.driver->cameraInfoFromFov();
