@@ -11,6 +11,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -152,8 +153,10 @@ RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::
   }
 }
 
+double secondsBetween(const ros::Time& later, const ros::Time& earlier) { return later.toSec() - earlier.toSec(); }
+
 std::string checkOneMoment(const std_msgs::Header& color, const std_msgs::Header& depth, double max_interval) {
-  const double apart = std::abs((color.stamp - depth.stamp).toSec());
+  const double apart = std::abs(secondsBetween(color.stamp, depth.stamp));
   char text[200];
   if (max_interval > 0.0 && apart > max_interval) {
     std::snprintf(text, sizeof text,

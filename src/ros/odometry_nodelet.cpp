@@ -134,7 +134,7 @@ class OdometryNodelet : public nodelet::Nodelet {
     if (last_stamp_ && message->header.stamp < *last_stamp_) {
       NODELET_INFO("KeypointArray stamped %.3f s before the previous one (a bag played again?): odometry reset to "
                    "identity",
-                   (*last_stamp_ - message->header.stamp).toSec());
+                   secondsBetween(*last_stamp_, message->header.stamp));
       restart();
     }
     std::optional<Eigen::Isometry3d> base_T_camera = Eigen::Isometry3d::Identity();
@@ -159,7 +159,7 @@ class OdometryNodelet : public nodelet::Nodelet {
       return;
     }
     // The twist's time: from the previous message the odometry tracked.
-    const double dt = last_stamp_ ? (message->header.stamp - *last_stamp_).toSec() : 0.0;
+    const double dt = last_stamp_ ? secondsBetween(message->header.stamp, *last_stamp_) : 0.0;
     last_stamp_ = message->header.stamp;
     if (r.motion_tracked && dt <= 0.0 && errors_.shouldLog("stamps")) {
       NODELET_WARN("KeypointArray stamped as the previous one: no twist for this frame");

@@ -187,6 +187,13 @@ TEST(Conversions, ColourAndDepthOfTwoMomentsAreWarnedOfOrRefused) {
   expectInputError([&] { checkOneMoment(colour, depth, 0.05); },
                    "colour and depth are stamped 0.100 s apart, more than ~approximate_sync_max_interval (0.05 s)");
   expectInputError([&] { checkOneMoment(depth, colour, 0.05); }, "stamped 0.100 s apart");
+  // Beyond ros::Duration's 2^31 s (an unset stamp against one past 2038):
+  // said as any other gap, where ros::Time's difference would throw.
+  depth.stamp = ros::Time(3000000000u, 0u);
+  colour.stamp = ros::Time(0u, 0u);
+  EXPECT_NE(checkOneMoment(colour, depth, 0.0).find("3000000000.000 s apart"), std::string::npos);
+  expectInputError([&] { checkOneMoment(depth, colour, 0.05); }, "3000000000.000 s apart");
+  EXPECT_EQ(secondsBetween(depth.stamp, colour.stamp), 3e9);
 }
 
 // A camera calibrated with distortion: the rectified image's projection P

@@ -55,6 +55,12 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& intrinsics, c
 RgbdFrame frameFromMessages(const sensor_msgs::Image& color, const sensor_msgs::Image& depth,
                             const sensor_msgs::CameraInfo& info);
 
+// later - earlier, in seconds. ros::Time's own difference throws
+// std::runtime_error for stamps more than 2^31 s apart (a stamp of zero
+// against one beyond 2038, an uninitialised or corrupt one in a bag), and a
+// node must not die of a stamp.
+double secondsBetween(const ros::Time& later, const ros::Time& earlier);
+
 // Whether colour and depth show one moment. An ApproximateTime synchroniser
 // pairs the nearest messages it holds however far apart they are, and depth
 // of another moment puts a moving camera's points where they were then.
