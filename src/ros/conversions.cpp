@@ -92,6 +92,7 @@ cv::Mat imageOf(const sensor_msgs::Image& image, int type) {
   const int rows = static_cast<int>(image.height), cols = static_cast<int>(image.width);
   uchar* data = const_cast<uchar*>(image.data.data());
   const bool swap = image.is_bigendian && elem1 > 1;
+  if (rows == 0 || cols == 0) return cv::Mat(rows, cols, type);  // no pixels to copy (RgbdFrame refuses it)
   if (image.step % elem == 0 && !swap) return cv::Mat(rows, cols, type, data, image.step);
   cv::Mat copy(rows, cols, type);
   const size_t row_bytes = static_cast<size_t>(cols) * elem;
@@ -316,30 +317,60 @@ void checkImageTransport(const std::string& transport, const std::string& parame
 
 namespace {
 
+// Text as FileStorage writes it for a value: as given, but not as one of the
+// structure marks FileStorage's writer takes a text beginning with '{', '}',
+// '[' or ']' for (a value "}" closed the section early, and the writer then
+// crashed in its destructor: the fuzz driver found it). Every such text is
+// refused by the reader anyway, as it is no number and no flag.
+std::string asFileText(const std::string& value) {
+  return !value.empty() && std::strchr("{}[]", value.front()) ? " " + value : value;
+}
+
+// Whether FileStorage writes `name` as a key and reads it back as given: a
+// letter or '_' first, then letters, digits, '_' and '-'.
+bool isFileKey(const std::string& name) {
+  const auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+  return !name.empty() && letter(name.front()) &&
+         std::all_of(name.begin(), name.end(),
+                     [&](char c) { return letter(c) || std::isdigit(static_cast<unsigned char>(c)) || c == '-'; });
+}
+
 // The RISAS sections of `sections` as the text of a parameter file: flags as
 // 0 or 1, numbers and text as given, lists and maps as text (which the
-// reader refuses as not a number).
+// reader refuses as not a number). Whatever is refused here is refused
+// before the FileStorage exists: one destroyed halfway through writing to
+// memory crashed in its destructor (OpenCV 4.6; the fuzz driver found it).
 std::string asParameterFile(XmlRpc::XmlRpcValue& sections) {
-  cv::FileStorage text(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   RisasParams names;
+  std::vector<const char*> present;
   visitSections(names, [&](const char* section, const auto&) {
     if (sections.getType() != XmlRpc::XmlRpcValue::TypeStruct || !sections.hasMember(section)) return;
     XmlRpc::XmlRpcValue& fields = sections[section];
     if (fields.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
       throw InputError(std::string("~") + section + " must hold parameters (~" + section + "/<name>)");
     }
+    for (auto& field : fields) {
+      if (!isFileKey(field.first)) {
+        throw InputError(std::string("~") + section + "/" + field.first +
+                         " is no parameter name (a letter or '_', then letters, digits, '_' and '-')");
+      }
+    }
+    present.push_back(section);
+  });
+  cv::FileStorage text(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  for (const char* section : present) {
     text << section << "{";
-    for (auto& [name, value] : fields) {
+    for (auto& [name, value] : sections[section]) {
       switch (value.getType()) {
         case XmlRpc::XmlRpcValue::TypeBoolean: text << name << (static_cast<bool>(value) ? 1 : 0); break;
         case XmlRpc::XmlRpcValue::TypeInt: text << name << static_cast<int>(value); break;
         case XmlRpc::XmlRpcValue::TypeDouble: text << name << static_cast<double>(value); break;
-        case XmlRpc::XmlRpcValue::TypeString: text << name << static_cast<std::string>(value); break;
+        case XmlRpc::XmlRpcValue::TypeString: text << name << asFileText(value); break;
         default: text << name << "(a list or a map)"; break;
       }
     }
     text << "}";
-  });
+  }
   return text.releaseAndGetString();
 }
 

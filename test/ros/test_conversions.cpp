@@ -167,6 +167,10 @@ TEST(Conversions, RejectsEverythingElseNamingTheProblem) {
   m = good;
   m.depth.step = 100;  // shorter than a row of 640 16-bit pixels
   expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "depth image message is malformed");
+  m = good;  // rows of no pixels, padded by part of a pixel (UBSan saw a copy to no buffer)
+  m.rgb.width = m.depth.width = m.info.width = 0;
+  m.rgb.step = m.depth.step = 1;
+  expectInputError([&] { frameFromMessages(m.rgb, m.depth, m.info); }, "colour image is empty");
 }
 
 // Colour and depth of two moments: beyond the bound refused with the
@@ -620,7 +624,19 @@ TEST(ParamsFromServer, TyposFractionsBadFlagsAndTextAreRefusedByName) {
   XmlRpc::XmlRpcValue list;
   list[0] = 1;
   EXPECT_NE(refusal("detector", "tau", list).find("detector.tau is not a number"), std::string::npos);
-  EXPECT_NE(refusal("detector", "max keypoints!", 1), "accepted");  // no name of a file: refused, not thrown past
+  EXPECT_NE(refusal("detector", "max keypoints!", 1).find("~detector/max keypoints! is no parameter name"),
+            std::string::npos);  // no name of a file: refused, not thrown past
+  XmlRpc::XmlRpcValue one_bad;  // a section written, the next one refused (the writer crashed when destroyed)
+  one_bad["geometry"]["normal_radius"] = 5;
+  one_bad["descriptor"] = XmlRpc::XmlRpcValue();
+  EXPECT_THROW(paramsFromXmlRpc(one_bad), std::invalid_argument);
+  // Text that FileStorage's writer would take for a structure mark (a "}"
+  // closed the section early and crashed the node).
+  for (const char* mark : {"}", "]", "{", "[", "{:", "}x"}) {
+    EXPECT_NE(refusal("descriptor", "max_radius_px", std::string(mark)).find("descriptor.max_radius_px is not a number"),
+              std::string::npos)
+        << mark;
+  }
   XmlRpc::XmlRpcValue not_a_section;
   not_a_section["detector"] = 5;
   EXPECT_THROW(paramsFromXmlRpc(not_a_section), std::invalid_argument);
