@@ -1,13 +1,14 @@
-// risas_fuzz_loop: the fuzz driver without libFuzzer (any compiler). Feeds
-// LLVMFuzzerTestOneInput random inputs from a seed until a time budget or a
-// count runs out, then prints how many it ran. A broken invariant or a
-// sanitizer report aborts the process.
+// risas_fuzz_loop, risas_ros_fuzz_loop: a fuzz driver without libFuzzer
+// (any compiler). Feeds LLVMFuzzerTestOneInput random inputs from a seed
+// until a time budget or a count runs out, then prints how many it ran. A
+// broken invariant or a sanitizer report aborts the process.
 //
 //   risas_fuzz_loop [--seconds S] [--runs N] [--seed K] [--max-len L] [FILE...]
 //
 // Files given are run once each first (a corpus, or a crash to reproduce).
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -19,6 +20,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 int main(int argc, char** argv) {
+  const std::string name = std::filesystem::path(argv[0]).filename().string();
   double seconds = 10.0;
   long runs = -1;
   unsigned seed = 1;
@@ -38,7 +40,7 @@ int main(int argc, char** argv) {
     else if (a == "--seed") seed = static_cast<unsigned>(std::stoul(value()));
     else if (a == "--max-len") max_len = std::stoul(value());
     else if (a.rfind("--", 0) == 0) {
-      std::cerr << "risas_fuzz_loop: unknown option " << a << "\n";
+      std::cerr << name << ": unknown option " << a << "\n";
       return 2;
     } else files.push_back(a);
   }
@@ -58,6 +60,6 @@ int main(int argc, char** argv) {
     LLVMFuzzerTestOneInput(input.data(), input.size());
     ++done;
   }
-  std::cout << "risas_fuzz_loop: " << done << " inputs (seed " << seed << "), no invariant broken\n";
+  std::cout << name << ": " << done << " inputs (seed " << seed << "), no invariant broken\n";
   return 0;
 }
