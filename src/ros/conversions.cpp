@@ -317,11 +317,11 @@ void checkImageTransport(const std::string& transport, const std::string& parame
 
 namespace {
 
-// Text as FileStorage writes it for a value: as given, but not as one of the
-// structure marks FileStorage's writer takes a text beginning with '{', '}',
-// '[' or ']' for (a value "}" closed the section early, and the writer then
-// crashed in its destructor: the fuzz driver found it). Every such text is
-// refused by the reader anyway, as it is no number and no flag.
+// A text value as given, unless it begins with '{', '}', '[' or ']': FileStorage's
+// writer takes such a text for a structure mark (a value "}" closed the
+// section early, and the writer then crashed in its destructor: the fuzz
+// driver found it), so it gets a space in front. The reader refuses it
+// either way, as it is no number and no flag.
 std::string asFileText(const std::string& value) {
   return !value.empty() && std::strchr("{}[]", value.front()) ? " " + value : value;
 }
