@@ -459,7 +459,7 @@ void fuzzParams(Bytes& in) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Bytes in(data, size);
-  try {
+  runCase([&] {
     switch (in.byte() % 6) {
       case 0: fuzzFrame(in); break;
       case 1: fuzzMatchingAndMotion(in); break;
@@ -468,11 +468,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       case 4: fuzzDatasetTextFiles(in); break;
       default: fuzzParams(in); break;
     }
-  } catch (const risas::InputError&) {
-    breach("an InputError escaped a step that should have caught it");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "undocumented exception: %s\n", e.what());
-    std::abort();
-  }
+  });
   return 0;
 }

@@ -3,6 +3,7 @@
 // aborts, random images and parameters, and the check of extracted features.
 #pragma once
 
+#include "risas/errors.hpp"
 #include "risas/features.hpp"
 #include "risas/params.hpp"
 #include "risas/rgbd_frame.hpp"
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -57,6 +59,23 @@ class Bytes {
 }
 inline void require(bool ok, const char* what) {
   if (!ok) breach(what);
+}
+
+// One input's case, run so that whatever escapes it aborts: an InputError
+// (each step catches its own) or any other exception (none is documented;
+// XmlRpc's derive from no std type).
+template <class Case>
+void runCase(Case&& run) {
+  try {
+    run();
+  } catch (const risas::InputError&) {
+    breach("an InputError escaped a step that should have caught it");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "undocumented exception: %s\n", e.what());
+    std::abort();
+  } catch (...) {
+    breach("an exception of no std type escaped");
+  }
 }
 
 // An image of `type`: raw bytes, a pattern, or (for depth types) a scene:
