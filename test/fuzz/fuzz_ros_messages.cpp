@@ -183,16 +183,20 @@ void fuzzImages(Bytes& in) {
   // Most cases messages a camera publishes, so that the checks behind the
   // refusals are reached; the rest anything at all.
   const bool wrong = in.byte() % 8 == 0;
-  cv::Size size(in.in(8, 64), in.in(8, 48));
+  // One value per statement, as in fuzz_core.cpp: a call's arguments are
+  // read in the compiler's order, and an input must mean the same to every build.
+  cv::Size size;
+  size.width = in.in(8, 64), size.height = in.in(8, 48);
   std::string frame = frames[in.byte() % 2];
   std::string colour_encoding = colours[in.byte() % 5], depth_encoding = depths[in.byte() % 2];
   cv::Size depth_size = size;
   if (wrong) {
-    size = cv::Size(in.in(0, 64), in.in(0, 48));
+    size.width = in.in(0, 64), size.height = in.in(0, 48);
     frame = pick(in, frames);
     colour_encoding = pick(in, colours);
     depth_encoding = pick(in, depths);
-    depth_size = in.byte() % 4 ? size : cv::Size(in.in(0, 64), in.in(0, 48));
+    depth_size = size;
+    if (in.byte() % 4 == 0) depth_size.width = in.in(0, 64), depth_size.height = in.in(0, 48);
   }
   const sensor_msgs::Image colour = imageMessage(in, colour_encoding, size, frame, wrong);
   const std::string depth_frame = wrong && in.byte() % 4 == 0 ? pick(in, frames) : frame;
