@@ -236,6 +236,22 @@ Features fromMessage(const KeypointArray& message) {
     throw InputError("KeypointArray holds " + std::to_string(message.descriptors.size()) + " descriptor values, not " +
                      std::to_string(n) + " x " + std::to_string(message.descriptor_dim));
   }
+  // A keypoint's point may be NaN (no depth there: the odometry skips it);
+  // its pixel and its descriptor may not, since the matcher and the
+  // overlays would take a NaN as a place or a distance.
+  for (size_t i = 0; i < n; ++i) {
+    const Keypoint& m = message.keypoints[i];
+    if (!std::isfinite(m.x) || !std::isfinite(m.y)) {
+      throw InputError("KeypointArray keypoint " + std::to_string(i) + " is at a non-finite pixel");
+    }
+  }
+  const auto bad = std::find_if(message.descriptors.begin(), message.descriptors.end(),
+                                [](float v) { return !std::isfinite(v); });
+  if (bad != message.descriptors.end()) {
+    const size_t at = static_cast<size_t>(bad - message.descriptors.begin());
+    throw InputError("KeypointArray descriptor of keypoint " + std::to_string(at / message.descriptor_dim) +
+                     " holds a non-finite value");
+  }
   Features features;
   for (const Keypoint& m : message.keypoints) {
     features.keypoints.emplace_back(cv::Point2f(m.x, m.y), m.size, m.angle, m.response, m.octave, m.class_id);

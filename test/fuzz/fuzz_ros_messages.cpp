@@ -19,7 +19,8 @@
 //     positive; its features, published and read back (toMessage,
 //     fromMessage), are the same keypoints and descriptors, and its cloud
 //     (toPointCloud) holds one finite point per keypoint;
-//   - an odometry fed arrays read from messages has a finite pose;
+//   - an array read from a message has finite pixels and descriptors, and
+//     an odometry fed such arrays has a finite pose;
 //   - parameters taken pass validate().
 //
 // Built in a catkin workspace as `risas_ros_fuzz_loop` (with
@@ -253,6 +254,12 @@ void fuzzStamps(Bytes& in) {
 // A KeypointArray of any shape and values, read as the odometry nodelet
 // reads it, and tracked twice.
 void fuzzKeypointArrays(Bytes& in) {
+  // An array holds hundreds of values and one non-finite pixel or descriptor
+  // value refuses it: here only one value in 128 is number()'s extremes, so
+  // that most arrays reach the odometry.
+  const auto value = [&in](double lo, double hi) {
+    return static_cast<float>(in.byte() % 128 ? lo + (hi - lo) * (in.word() / 4294967295.0) : in.number(lo, hi));
+  };
   risas::Odometry odometry;
   for (int frame = 0; frame < 2; ++frame) {
     risas::KeypointArray m;
@@ -261,17 +268,22 @@ void fuzzKeypointArrays(Bytes& in) {
     m.descriptor_layout = in.byte() % 8 ? "fuzz" : "other";
     m.keypoints.resize(static_cast<size_t>(n));
     for (risas::Keypoint& k : m.keypoints) {
-      k.x = static_cast<float>(in.number(0.0, 64.0)), k.y = static_cast<float>(in.number(0.0, 48.0));
-      k.point.x = static_cast<float>(in.number(-1.0, 1.0)), k.point.y = static_cast<float>(in.number(-1.0, 1.0));
+      k.x = value(0.0, 64.0);
+      k.y = value(0.0, 48.0);
+      k.point.x = static_cast<float>(in.number(-1.0, 1.0));
+      k.point.y = static_cast<float>(in.number(-1.0, 1.0));
       k.point.z = static_cast<float>(in.number(0.3, 4.0));
       k.normal = {0.0f, 0.0f, -1.0f};
     }
     size_t values = static_cast<size_t>(n) * (m.descriptor_dim == 8 ? 8 : 0);
     if (in.byte() % 8 == 0) values = in.word() % 512;
     m.descriptors.resize(values);
-    for (float& v : m.descriptors) v = static_cast<float>(in.number(0.0, 1.0));
+    for (float& v : m.descriptors) v = value(0.0, 1.0);
     try {
-      const risas::OdometryResult r = odometry.track(risas_ros::fromMessage(m));
+      const risas::Features f = risas_ros::fromMessage(m);
+      for (const cv::KeyPoint& k : f.keypoints) require(std::isfinite(k.pt.x) && std::isfinite(k.pt.y), "finite pixels taken");
+      require(f.descriptors.empty() || cv::checkRange(f.descriptors), "finite descriptors taken");
+      const risas::OdometryResult r = odometry.track(f);
       require(r.world_T_camera.matrix().allFinite(), "a finite pose");
     } catch (const risas::InputError&) {
     }

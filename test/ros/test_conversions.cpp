@@ -461,6 +461,16 @@ TEST(Conversions, KeypointArrayRoundTripsAndWrapsAsAMat) {
     EXPECT_EQ(back.geometry[i].point, f.geometry[i].point);
     EXPECT_EQ(back.geometry[i].normal, f.geometry[i].normal);
   }
+  // A keypoint without depth is kept; a NaN pixel or descriptor value is
+  // refused, naming the keypoint.
+  message->keypoints[2].point.z = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(fromMessage(*message).geometry[2].point.z));
+  KeypointArray no_pixel = *message;
+  no_pixel.keypoints[3].x = std::numeric_limits<float>::infinity();
+  expectInputError([&] { fromMessage(no_pixel); }, "keypoint 3 is at a non-finite pixel");
+  KeypointArray no_descriptor = *message;
+  no_descriptor.descriptors[static_cast<size_t>(5 * dimension + 1)] = std::numeric_limits<float>::quiet_NaN();
+  expectInputError([&] { fromMessage(no_descriptor); }, "descriptor of keypoint 5 holds a non-finite value");
   message->descriptors.pop_back();
   EXPECT_THROW(fromMessage(*message), risas::InputError);
 }

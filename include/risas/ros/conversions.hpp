@@ -79,7 +79,9 @@ KeypointArrayPtr toMessage(const Features& features, const std_msgs::Header& hea
 sensor_msgs::PointCloud2Ptr toPointCloud(const Features& features, const std_msgs::Header& header);
 
 // The inverse; descriptors are copied out of the message. InputError when the
-// descriptor array does not hold keypoints.size() x descriptor_dim values.
+// descriptor array does not hold keypoints.size() x descriptor_dim values,
+// or a keypoint's pixel or descriptor is not finite. A NaN 3D point is kept:
+// a keypoint without depth, which risas::Odometry skips.
 Features fromMessage(const KeypointArray& message);
 
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
