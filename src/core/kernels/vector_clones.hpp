@@ -9,8 +9,12 @@
 // loops are element-wise, and the core is compiled with -ffp-contract=off:
 // no fused multiply-adds), so results do not depend on the CPU.
 // (GCC 11 is the first to know x86-64-v4; older compilers and others build
-// the baseline copy only.)
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && __GNUC__ >= 11
+// the baseline copy only.) Under ThreadSanitizer too: the loader runs the
+// copies' resolver before the TSan runtime starts, and the instrumented
+// resolver then crashes every program that loads the library (GCC 12;
+// llvm/llvm-project#163369 is the same with clang).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && __GNUC__ >= 11 && \
+    !defined(__SANITIZE_THREAD__)
 #define RISAS_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #else
 #define RISAS_VECTOR_CLONES
