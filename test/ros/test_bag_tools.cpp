@@ -69,10 +69,14 @@ TEST_F(BagTools, TheFrameIdIsTakenWhenTfWouldTakeIt) {
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   rosbag::Bag bag(written, rosbag::bagmode::Read);
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
-    if (const auto image = m.instantiate<sensor_msgs::Image>()) EXPECT_EQ(image->header.frame_id, "cam2_optical");
-    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) EXPECT_EQ(info->header.frame_id, "cam2_optical");
+    if (const auto image = m.instantiate<sensor_msgs::Image>()) {
+      EXPECT_EQ(image->header.frame_id, "cam2_optical");
+    }
+    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+      EXPECT_EQ(info->header.frame_id, "cam2_optical");
+    }
   }
-  for (const std::string tool : {"risas_dataset_to_bag --data " + (dir / "sequence").string(),
+  for (const std::string& tool : {"risas_dataset_to_bag --data " + (dir / "sequence").string(),
                                  "risas_tum_to_bag --tum " + (dir / "sequence").string() + " --fx 500 --fy 500 --cx 320 --cy 240"}) {
     const ToolRun slash = run(tool + " --out " + (dir / "slash.bag").string() + " --frame-id /cam2_optical");
     EXPECT_EQ(slash.exit_code, 2) << slash.output;
