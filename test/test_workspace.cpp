@@ -16,10 +16,11 @@
 namespace risas {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
+// ASan and TSan bring allocators of their own.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr bool kSanitizedAllocator = true;
 #elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
 constexpr bool kSanitizedAllocator = true;
 #else
 constexpr bool kSanitizedAllocator = false;
@@ -70,10 +71,10 @@ TEST(Workspace, AFrameHoldsAFewMegabytesAtVga) {
   // measured figure): more than the response image alone, less than 64 MB.
   const RgbdFrame frame = test::renderFrame(SyntheticScene::demo(), test::demoCamera());
   ASSERT_EQ(frame.size(), cv::Size(640, 480));
+  if (kSanitizedAllocator) GTEST_SKIP() << "a sanitizer's allocator: glibc's malloc statistics do not see it";
   const Risas risas;
   const int threads = cv::getNumThreads();
   cv::setNumThreads(1);
-  if (kSanitizedAllocator) GTEST_SKIP() << "a sanitizer's allocator: glibc's malloc statistics do not see it";
   size_t held = 0;
   onNewThread([&] {
     const size_t start = mallinfo2().uordblks;
