@@ -281,7 +281,9 @@ void fuzzKeypointArrays(Bytes& in) {
     for (float& v : m.descriptors) v = value(0.0, 1.0);
     try {
       const risas::Features f = risas_ros::fromMessage(m);
-      for (const cv::KeyPoint& k : f.keypoints) require(std::isfinite(k.pt.x) && std::isfinite(k.pt.y), "finite pixels taken");
+      for (const cv::KeyPoint& k : f.keypoints) {
+        require(std::isfinite(k.pt.x) && std::isfinite(k.pt.y), "finite pixels taken");
+      }
       require(f.descriptors.empty() || cv::checkRange(f.descriptors), "finite descriptors taken");
       const risas::OdometryResult r = odometry.track(f);
       require(r.world_T_camera.matrix().allFinite(), "a finite pose");

@@ -375,7 +375,8 @@ TEST(Odometry, TracksTheSyntheticTruthResetsAndSkipsBadArrays) {
   // in their order: the first identity there is the reset's (the poses in
   // flight before it were tracked from the old start, seconds away).
   const std::vector<nav_msgs::OdometryConstPtr> messages = odom.messages();
-  std::vector<nav_msgs::OdometryConstPtr> run(messages.begin() + static_cast<std::ptrdiff_t>(before_reset), messages.end());
+  std::vector<nav_msgs::OdometryConstPtr> run(messages.begin() + static_cast<std::ptrdiff_t>(before_reset),
+                                              messages.end());
   const auto identity = std::find_if(run.begin(), run.end(), [&](const auto& o) {
     return pose(*o).isApprox(Eigen::Isometry3d::Identity(), 1e-9);
   });
