@@ -1,23 +1,26 @@
 #!/usr/bin/env bash
 # Runs every test of risas on a fresh Debian 12: installs what is missing,
-# then four stages, and exits non-zero when any test fails:
+# then five stages, and exits non-zero when any test fails:
 #   1. ros: the catkin package (Release, gcc): unit tests and rostests (the
 #      display test among them, under an Xvfb of its own), and
 #      scripts/demo.sh headless;
 #   2. sanitize: the ROS-free core with ASan+UBSan (gcc; any report is
 #      fatal): its unit tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
-#   3. clang: the ROS-free core with clang (Release): its unit tests;
-#   4. downstream: the package built with -DCATKIN_ENABLE_TESTING=OFF and
+#   3. thread: the ROS-free core with ThreadSanitizer (gcc; any report is
+#      fatal), OpenCV's parallel_for_ on test/tsan's std::thread backend: its
+#      unit tests, and the stage's check that it sees a race;
+#   4. clang: the ROS-free core with clang (Release): its unit tests;
+#   5. downstream: the package built with -DCATKIN_ENABLE_TESTING=OFF and
 #      installed, the clang build installed with `cmake --install`, and a
 #      user's catkin package and plain-CMake project built against each
 #      install and run (test/downstream).
 # Ends with one line over all of them: "N passed, N failed, N skipped".
-# RISAS_TEST_STAGES (default "ros sanitize clang downstream") picks stages.
+# RISAS_TEST_STAGES (default "ros sanitize thread clang downstream") picks stages.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
 source "$(dirname "$0")/env.sh"
 
-stages="${RISAS_TEST_STAGES:-ros sanitize clang downstream}"
+stages="${RISAS_TEST_STAGES:-ros sanitize thread clang downstream}"
 plain_root="${RISAS_PLAIN_BUILDS:-$(dirname "$RISAS_WS")/risas_plain}"
 results=()
 
@@ -71,13 +74,19 @@ plain_build() {
   cmake --build "$dir" -j"$(nproc)" > "$dir.build.log" 2>&1 || { grep -E "error|Error" "$dir.build.log" | head -30; exit 1; }
 }
 
-# plain_stage NAME CXX FLAGS...: plain_build, then ctest into NAME/junit.xml.
+# plain_stage NAME CXX FLAGS...: plain_build, then ctest into NAME/junit.xml,
+# with ctest_options (an array, empty unless a stage sets it) and with
+# ctest_preload (a library of the build, if set) preloaded into every test
+# and the tools they start.
+ctest_options=()
+ctest_preload=""
 plain_stage() {
   local name=$1 dir="$plain_root/$1"
   echo "== stage $name: ROS-free core with $2 $3"
   SECONDS=0
   plain_build "$@"
-  (cd "$dir" && ctest -j"$(nproc)" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
+  (cd "$dir" && LD_PRELOAD="${ctest_preload:+$dir/$ctest_preload}" \
+     ctest -j"$(nproc)" "${ctest_options[@]}" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
     grep -E "Failed|\*\*\*|ERROR|runtime error|invariant" "$dir/ctest.log" | head -40 || true
   tail -3 "$dir/ctest.log"
   results+=("$dir/junit.xml")
@@ -93,6 +102,20 @@ if [[ " $stages " == *" sanitize "* ]]; then
   plain_stage sanitize g++ "-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_FUZZ_SECONDS="${RISAS_FUZZ_SECONDS:-60}"
   unset ASAN_OPTIONS UBSAN_OPTIONS
+fi
+
+if [[ " $stages " == *" thread "* ]]; then
+  # Every report ends its process (exit code 66) and fails its test. OpenCV's
+  # TBB hands work over in ways TSan cannot see, so its parallel_for_ runs on
+  # std::threads instead (docs/thread-safety.md). The fuzz loop is the
+  # sanitize stage's.
+  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$RISAS_ROOT/test/tsan/suppressions.txt"
+  ctest_options=(-E "^FuzzLoop[.]")
+  ctest_preload=lib/librisas_std_thread_backend.so
+  plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON
+  ctest_options=()
+  ctest_preload=""
+  unset TSAN_OPTIONS
 fi
 
 if [[ " $stages " == *" clang "* ]]; then
