@@ -63,7 +63,10 @@ own_build_dir() {
 }
 
 # plain_build NAME CXX FLAGS...: configures and builds the ROS-free core, its
-# tools and tests in $plain_root/NAME.
+# tools and tests in $plain_root/NAME. The build and the tests run through
+# stage_launcher (an array, empty unless a stage sets it): the build runs
+# each test program to list its tests.
+stage_launcher=()
 plain_build() {
   local name=$1 cxx=$2 flags=$3
   shift 3
@@ -72,7 +75,7 @@ plain_build() {
   cmake -S "$RISAS_ROOT" -B "$dir" -DRISAS_WITH_ROS=OFF -DCMAKE_CXX_COMPILER="$cxx" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" "$@" > "$dir.configure.log" 2>&1 ||
     { tail -30 "$dir.configure.log"; exit 1; }
-  cmake --build "$dir" -j"$(nproc)" > "$dir.build.log" 2>&1 || { grep -E "error|Error" "$dir.build.log" | head -30; exit 1; }
+  "${stage_launcher[@]}" cmake --build "$dir" -j"$(nproc)" > "$dir.build.log" 2>&1 || { grep -E "error|Error" "$dir.build.log" | head -30; exit 1; }
 }
 
 # plain_stage NAME CXX FLAGS...: plain_build, then ctest into NAME/junit.xml,
@@ -87,7 +90,7 @@ plain_stage() {
   SECONDS=0
   plain_build "$@"
   (cd "$dir" && LD_PRELOAD="${ctest_preload:+$dir/$ctest_preload}" \
-     ctest -j"$(nproc)" "${ctest_options[@]}" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
+     "${stage_launcher[@]}" ctest -j"$(nproc)" "${ctest_options[@]}" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
     grep -E "Failed|\*\*\*|ERROR|runtime error|invariant" "$dir/ctest.log" | head -40 || true
   tail -3 "$dir/ctest.log"
   results+=("$dir/junit.xml")
@@ -115,10 +118,15 @@ if [[ " $stages " == *" thread "* ]]; then
   # std::threads instead (docs/thread-safety.md). The fuzz loop is the
   # sanitize stage's.
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$RISAS_ROOT/test/tsan/suppressions.txt"
+  # Address randomisation off where the system lets a process turn it off:
+  # GCC 12's TSan runtime cannot map its shadow memory on kernels that
+  # randomise more bits (vm.mmap_rnd_bits 32; google/sanitizers#1716).
   ctest_options=(-E "^FuzzLoop[.]")
+  if setarch "$(uname -m)" -R true 2> /dev/null; then stage_launcher=(setarch "$(uname -m)" -R); fi
   ctest_preload=lib/librisas_std_thread_backend.so
   plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON
   ctest_options=()
+  stage_launcher=()
   ctest_preload=""
   unset TSAN_OPTIONS
 fi
