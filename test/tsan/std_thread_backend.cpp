@@ -6,8 +6,9 @@
 // own uninstrumented atomics. ThreadSanitizer cannot see them, so every loop
 // body would seem to read what its caller wrote "without synchronisation"
 // (docs/thread-safety.md). pthread_create and pthread_join it does see: the
-// bodies still run in parallel on four threads, and a real race between
-// them is still reported (test/tsan/race_in_parallel_body.cpp).
+// bodies still run in parallel, on as many threads as OpenCV's count (the
+// machine's cores unless cv::setNumThreads says otherwise), and a real race
+// between them is still reported (test/tsan/race_in_parallel_body.cpp).
 #include <opencv2/core/parallel/parallel_backend.hpp>
 
 #include <atomic>
@@ -34,16 +35,17 @@ class StdThreads : public cv::parallel::ParallelForAPI {
   }
   int getThreadNum() const override { return thread_index; }
   int getNumThreads() const override { return threads_; }
+  // OpenCV passes its count on at once (setParallelForBackend propagates
+  // it), then at each cv::setNumThreads; below 2 it runs loops itself.
   int setNumThreads(int n) override {
     const int old = threads_;
-    threads_ = n > 0 ? n : kThreads;  // 0 or less: OpenCV's "all", here four
+    threads_ = n > 0 ? n : 1;
     return old;
   }
   const char* getName() const override { return "std::thread (risas TSan stage)"; }
 
  private:
-  static constexpr int kThreads = 4;
-  int threads_ = kThreads;
+  int threads_ = 1;
 };
 
 __attribute__((constructor)) void useStdThreads() {
