@@ -9,7 +9,8 @@
 #      unit tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
 #   3. thread: the ROS-free core with ThreadSanitizer (gcc; any report is
 #      fatal), OpenCV's parallel_for_ on test/tsan's std::thread backend: its
-#      unit tests, and the stage's check that it sees a race;
+#      unit tests, the stage's check that it sees a race, and the fuzz loop
+#      for RISAS_TSAN_FUZZ_SECONDS (30);
 #   4. clang: the ROS-free core with clang (Release): its unit tests;
 #   5. downstream: the package built with -DCATKIN_ENABLE_TESTING=OFF and
 #      installed, the clang build installed with `cmake --install`, and a
@@ -79,10 +80,8 @@ plain_build() {
 }
 
 # plain_stage NAME CXX FLAGS...: plain_build, then ctest into NAME/junit.xml,
-# with ctest_options (an array, empty unless a stage sets it) and with
-# ctest_preload (a library of the build, if set) preloaded into every test
-# and the tools they start.
-ctest_options=()
+# with ctest_preload (a library of the build, if set) preloaded into every
+# test and the tools they start.
 ctest_preload=""
 plain_stage() {
   local name=$1 dir="$plain_root/$1"
@@ -90,7 +89,7 @@ plain_stage() {
   SECONDS=0
   plain_build "$@"
   (cd "$dir" && LD_PRELOAD="${ctest_preload:+$dir/$ctest_preload}" \
-     "${stage_launcher[@]}" ctest -j"$(nproc)" "${ctest_options[@]}" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
+     "${stage_launcher[@]}" ctest -j"$(nproc)" --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
     grep -E "Failed|\*\*\*|ERROR|runtime error|invariant" "$dir/ctest.log" | head -40 || true
   tail -3 "$dir/ctest.log"
   results+=("$dir/junit.xml")
@@ -115,17 +114,17 @@ fi
 if [[ " $stages " == *" thread "* ]]; then
   # Every report ends its process (exit code 66) and fails its test. OpenCV's
   # TBB hands work over in ways TSan cannot see, so its parallel_for_ runs on
-  # std::threads instead (docs/thread-safety.md). The fuzz loop is the
-  # sanitize stage's.
+  # std::threads instead (docs/thread-safety.md). The fuzz loop runs for
+  # RISAS_TSAN_FUZZ_SECONDS (30): its frames of any size are extracted on
+  # those threads.
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$RISAS_ROOT/test/tsan/suppressions.txt"
   # Address randomisation off where the system lets a process turn it off:
   # GCC 12's TSan runtime cannot map its shadow memory on kernels that
   # randomise more bits (vm.mmap_rnd_bits 32; google/sanitizers#1716).
-  ctest_options=(-E "^FuzzLoop[.]")
   if setarch "$(uname -m)" -R true 2> /dev/null; then stage_launcher=(setarch "$(uname -m)" -R); fi
   ctest_preload=lib/librisas_std_thread_backend.so
-  plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON
-  ctest_options=()
+  plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON \
+    -DRISAS_FUZZ_SECONDS="${RISAS_TSAN_FUZZ_SECONDS:-30}"
   stage_launcher=()
   ctest_preload=""
   unset TSAN_OPTIONS
