@@ -115,8 +115,8 @@ if [[ " $stages " == *" thread "* ]]; then
   # Every report ends its process (exit code 66) and fails its test. OpenCV's
   # TBB hands work over in ways TSan cannot see, so its parallel_for_ runs on
   # std::threads instead (docs/thread-safety.md). The fuzz loop runs for
-  # RISAS_TSAN_FUZZ_SECONDS (30): its frames of any size are extracted on
-  # those threads.
+  # RISAS_TSAN_FUZZ_SECONDS (30) from a seed of its own: its frames of any
+  # size are extracted on those threads.
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$RISAS_ROOT/test/tsan/suppressions.txt"
   # Address randomisation off where the system lets a process turn it off:
   # GCC 12's TSan runtime cannot map its shadow memory on kernels that
@@ -124,7 +124,7 @@ if [[ " $stages " == *" thread "* ]]; then
   if setarch "$(uname -m)" -R true 2> /dev/null; then stage_launcher=(setarch "$(uname -m)" -R); fi
   ctest_preload=lib/librisas_std_thread_backend.so
   plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON \
-    -DRISAS_FUZZ_SECONDS="${RISAS_TSAN_FUZZ_SECONDS:-30}"
+    -DRISAS_FUZZ_SECONDS="${RISAS_TSAN_FUZZ_SECONDS:-30}" -DRISAS_FUZZ_SEED=2
   stage_launcher=()
   ctest_preload=""
   unset TSAN_OPTIONS
