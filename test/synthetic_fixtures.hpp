@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace risas::test {
@@ -36,9 +37,9 @@ inline RgbdFrame renderFrame(const SyntheticScene& scene, const Eigen::Isometry3
 // Kinect-like depth from a rendered one (metres, NaN where none): the
 // disparity quantised to 1/8 pixel (f b = 43.5 px m, so depth steps of
 // z^2 / 348 m: 3 mm at 1 m, 12 mm at 2 m), noise growing with z^2 (sigma
-// 1.5 mm at 1 m) and correlated over a few pixels, no depth within 2 px of
-// a jump over 5 cm (the projector's shadow and the mixed pixels at
-// silhouettes), and 2 % random holes. The noise is white noise blurred by
+// 1.5 mm at 1 m) and correlated over a few pixels, the projector's shadow
+// (projectorShadow), no depth within 2 px of a jump over 5 cm (the mixed
+// pixels at silhouettes), and 2 % random holes. The noise is white noise blurred by
 // a Gaussian of kKinectNoiseCorrelationPx: on a real Kinect's floor at 1.2 m
 // (fr3/cabinet) the depth's residual from its plane correlates 0.86 / 0.74
 // / 0.59 at 1 / 2 / 4 px, and the normals there are off by a median 5.4°;
@@ -46,6 +47,33 @@ inline RgbdFrame renderFrame(const SyntheticScene& scene, const Eigen::Isometry3
 // 0.74 / 0.51 and 5.7° (docs/evaluation.md, "Normals over a window of fixed
 // metric size").
 inline constexpr double kKinectNoiseCorrelationPx = 3.0;
+inline constexpr double kKinectFocalBaselinePxM = 43.5;
+
+// Where the projector's pattern does not reach: a Kinect measures depth only
+// where the IR camera sees the projected pattern, and its projector sits
+// 7.5 cm to the camera's +x. A surface point the camera sees at column u and
+// depth z lies at column u - fb / z in the projector's view (rows agree);
+// a point is in the shadow when some point to its right on the row lies at
+// or left of it in the projector's view and nearer: the two are on one
+// projector ray, and the nearer one takes the pattern. So the shadow lies on
+// the far surface to the left of each nearer object, fb (1/z_near - 1/z_far)
+// pixels wide: 14 px for a box 1 m away on a floor 1.5 m away. It turns with
+// the camera, not with the scene (the dataset's rotate sequences show it).
+inline cv::Mat projectorShadow(const cv::Mat& depth) {
+  cv::Mat shadow(depth.size(), CV_8U, cv::Scalar(0));
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* z = depth.ptr<float>(v);
+    double leftmost = std::numeric_limits<double>::infinity();  // projector column of the row's right part
+    for (int u = depth.cols - 1; u >= 0; --u) {
+      if (!(z[u] > 0.0f)) continue;
+      const double projector_u = u - kKinectFocalBaselinePxM / z[u];
+      if (projector_u >= leftmost + 0.5) shadow.at<uchar>(v, u) = 255;
+      leftmost = std::min(leftmost, projector_u);
+    }
+  }
+  return shadow;
+}
+
 inline cv::Mat kinectLikeDepth(const cv::Mat& depth, uint64_t seed) {
   cv::Mat out = depth.clone();
   cv::RNG rng(seed);
@@ -68,17 +96,18 @@ inline cv::Mat kinectLikeDepth(const cv::Mat& depth, uint64_t seed) {
     }
     return false;
   };
+  const cv::Mat shadow = projectorShadow(depth);
   for (int v = 0; v < depth.rows; ++v) {
     for (int u = 0; u < depth.cols; ++u) {
       float& z = out.at<float>(v, u);
       if (std::isnan(z)) continue;
-      if (jump(v, u) || rng.uniform(0.0, 1.0) < 0.02) {
+      if (shadow.at<uchar>(v, u) || jump(v, u) || rng.uniform(0.0, 1.0) < 0.02) {
         z = NAN;
         continue;
       }
       const double noisy = z + 0.0015 * z * z * noise.at<float>(v, u);
-      const double disparity = std::round(43.5 / noisy * 8.0) / 8.0;
-      z = static_cast<float>(43.5 / disparity);
+      const double disparity = std::round(kKinectFocalBaselinePxM / noisy * 8.0) / 8.0;
+      z = static_cast<float>(kKinectFocalBaselinePxM / disparity);
     }
   }
   return out;

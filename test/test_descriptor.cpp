@@ -484,10 +484,10 @@ TEST(Descriptor, SampleBlurKeepsAShiftedNoisyKeypointNearestItself) {
 // finer groups move a point's votes from one view to the other, while the
 // second ring keeps where the patch's parts lie. The demo scene's texture
 // at a quarter of its contrast, grey noise of one level and Kinect-like
-// depth, the camera 10 and 20 degrees around the scene. Measured: 589
-// against 519 of 905 counterparts matched to themselves (four groups in
-// one ring: 550; two rings of eight: 547); at full contrast 742 against
-// 686, at a tenth 365 against 304.
+// depth, the camera 10 and 20 degrees around the scene. Measured: 601
+// against 511 of 906 counterparts matched to themselves (four groups in
+// one ring: 546; two rings of eight: 551); at full contrast 728 against
+// 671, at a tenth 362 against 300.
 TEST(Descriptor, TwoRingsOfFourRankGroupsMatchMoreOnALowContrastTexture) {
   const SyntheticScene scene = SyntheticScene::demo();
   const Eigen::Vector3d target(0.0, 0.05, 0.15);
