@@ -39,13 +39,13 @@ inline RgbdFrame renderFrame(const SyntheticScene& scene, const Eigen::Isometry3
 // z^2 / 348 m: 3 mm at 1 m, 12 mm at 2 m), noise growing with z^2 (sigma
 // 1.5 mm at 1 m) and correlated over a few pixels, the projector's shadow
 // (projectorShadow), no depth within 2 px of a jump over 5 cm (the mixed
-// pixels at silhouettes), and 2 % random holes. The noise is white noise blurred by
-// a Gaussian of kKinectNoiseCorrelationPx: on a real Kinect's floor at 1.2 m
-// (fr3/cabinet) the depth's residual from its plane correlates 0.86 / 0.74
-// / 0.59 at 1 / 2 / 4 px, and the normals there are off by a median 5.4°;
-// white noise of the same sigma gives 0.00 and 1.2°, this model 0.87 /
-// 0.74 / 0.51 and 5.7° (docs/evaluation.md, "Normals over a window of fixed
-// metric size").
+// pixels at silhouettes), and 2 % random holes. The noise is white noise
+// blurred by a Gaussian of kKinectNoiseCorrelationPx: on a real Kinect's
+// floor at 1.2 m (fr3/cabinet) the depth's residual from its plane
+// correlates 0.86 / 0.74 / 0.59 at 1 / 2 / 4 px, and the normals there are
+// off by a median 5.4°; white noise of the same sigma gives 0.00 and 1.2°,
+// this model 0.87 / 0.74 / 0.51 and 5.7° (docs/evaluation.md, "Normals over
+// a window of fixed metric size").
 inline constexpr double kKinectNoiseCorrelationPx = 3.0;
 inline constexpr double kKinectFocalBaselinePxM = 43.5;
 
@@ -57,8 +57,9 @@ inline constexpr double kKinectFocalBaselinePxM = 43.5;
 // or left of it in the projector's view and nearer: the two are on one
 // projector ray, and the nearer one takes the pattern. So the shadow lies on
 // the far surface to the left of each nearer object, fb (1/z_near - 1/z_far)
-// pixels wide: 14 px for a box 1 m away on a floor 1.5 m away. It turns with
-// the camera, not with the scene (the dataset's rotate sequences show it).
+// pixels wide: 14 px for a box 1 m away before a wall 1.5 m away. It turns
+// with the camera, not with the scene (the dataset's rotate sequences show
+// it).
 inline cv::Mat projectorShadow(const cv::Mat& depth) {
   cv::Mat shadow(depth.size(), CV_8U, cv::Scalar(0));
   for (int v = 0; v < depth.rows; ++v) {

@@ -64,7 +64,7 @@ TEST(InvarianceOnKinectDepth, InPlaneRotationWithTheProjectorsShadow) {
     for (const uint64_t seed : {10, 20, 30}) {
       const Features a = risas.extract(test::kinectLikeFrame(scene, camera, seed));
       const Features b = risas.extract(test::kinectLikeFrame(scene, test::rolled(camera, degrees), seed + 1));
-      const CorrespondenceScore s = test::scoreCorrespondences(a, b, test::rolled(Eigen::Isometry3d::Identity(), degrees));
+      const CorrespondenceScore s = test::scoreCorrespondences(a, b, camera.inverse() * test::rolled(camera, degrees));
       total.counterparts += s.counterparts, total.matched += s.matched;
     }
     std::cout << "roll " << degrees << " deg: " << total.matched << " / " << total.counterparts << " = " << total.rate()
