@@ -340,6 +340,31 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   std::getline(refit_summary, line);
   ASSERT_TRUE(std::getline(refit_summary, line));
   EXPECT_EQ(std::stod(cellsOf(line).at(11)), 1.0) << line;
+  // The ground truth and the intrinsics as given: corrected/ poses 9 m off
+  // fail every pair unless --ground-truth raw passes them over for the
+  // rendered (raw) ones, and a focal length a sixth of the rendered one
+  // bends the back-projected points so that no pose is right.
+  const fs::path sequence_corrected = sequence / "corrected";
+  fs::create_directories(sequence_corrected);
+  for (int k : {2, 3}) {
+    std::ofstream(sequence_corrected / ("R1-" + std::to_string(k) + ".txt")) << "1 0 0\n0 1 0\n0 0 1\n";
+    std::ofstream(sequence_corrected / ("T1-" + std::to_string(k) + ".txt")) << "9\n0\n0\n";
+  }
+  const auto poseSuccess = [&](const std::string& options) {
+    const fs::path dir = root / "ground_truth";
+    const std::string command = bin + "/risas_evaluate --data " + root.string() + " --methods RISAS --ransac-seeds 1" +
+                                options + " --no-plots --out " + dir.string() + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    std::ifstream csv(dir / "summary.csv");
+    std::string row;
+    std::getline(csv, row);
+    std::getline(csv, row);
+    return std::stod(cellsOf(row).at(11));
+  };
+  EXPECT_EQ(poseSuccess(""), 0.0) << "corrected/ is the default";
+  EXPECT_EQ(poseSuccess(" --ground-truth raw"), 1.0);
+  EXPECT_EQ(poseSuccess(" --ground-truth raw --fx 95 --fy 95 --cx 319.5 --cy 239.5"), 0.0);
+  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ground-truth fitted > /dev/null 2>&1").c_str()), 0);
   // Wrong usage and missing data fail clearly.
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --pose-refit icp > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --study rings > /dev/null 2>&1").c_str()), 0);

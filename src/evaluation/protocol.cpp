@@ -14,9 +14,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// p1 = R pk + t of frame k, from corrected/ if the sequence has it.
-Eigen::Isometry3d readPose(const fs::path& dir, int k) {
-  const fs::path poses = fs::exists(dir / "corrected") ? dir / "corrected" : dir;
+// p1 = R pk + t of frame k, from corrected/ if asked for and the sequence has it.
+Eigen::Isometry3d readPose(const fs::path& dir, int k, GroundTruthPoses which) {
+  const bool corrected = which == GroundTruthPoses::Corrected && fs::exists(dir / "corrected");
+  const fs::path poses = corrected ? dir / "corrected" : dir;
   return readPoseFiles((poses / ("R1-" + std::to_string(k) + ".txt")).string(),
                        (poses / ("T1-" + std::to_string(k) + ".txt")).string());
 }
@@ -35,7 +36,7 @@ const std::vector<std::string>& evaluatedSequences() {
 }
 
 std::vector<Pair> listPairs(const std::string& root, const std::vector<std::string>& scenes,
-                            const std::vector<std::string>& sequences) {
+                            const std::vector<std::string>& sequences, GroundTruthPoses poses) {
   std::vector<Pair> pairs;
   for (const std::string& scene : scenes) {
     for (const std::string& sequence : sequences) {
@@ -91,7 +92,7 @@ std::vector<Pair> listPairs(const std::string& root, const std::vector<std::stri
           p.step = k;
           p.reference = frame(dir, "rgb_1.png", "depth_1.png");
           p.query = frame(dir, "rgb_" + std::to_string(k) + ".png", "depth_" + std::to_string(k) + ".png");
-          p.ref_T_query = readPose(dir, k);
+          p.ref_T_query = readPose(dir, k, poses);
           add(p);
         }
       }

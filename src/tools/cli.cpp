@@ -164,6 +164,12 @@ Intrinsics intrinsicsFrom(const Args& args) {
   return K;
 }
 
+Intrinsics intrinsicsGivenOrFound(const Args& args, const std::string& dir) {
+  const std::vector<std::string> names = intrinsicsOptionNames();
+  const bool given = std::any_of(names.begin(), names.end(), [&](const std::string& name) { return args.has(name); });
+  return given ? intrinsicsFrom(args) : findIntrinsics(dir);
+}
+
 RisasParams paramsFrom(const Args& args) {
   return args.has("params") ? RisasParams::load(args.get("params")) : RisasParams();
 }

@@ -55,6 +55,9 @@ class Args {
 // The intrinsics given as --intrinsics K.txt or as --fx --fy --cx --cy (not
 // both).
 Intrinsics intrinsicsFrom(const Args& args);
+// The intrinsics given as above if any of their options is, else the
+// camera-intrinsics.txt at or above the dataset folder `dir` (findIntrinsics).
+Intrinsics intrinsicsGivenOrFound(const Args& args, const std::string& dir);
 // --params P.yml if given, else the defaults.
 RisasParams paramsFrom(const Args& args);
 // --depth-units N if given (16-bit depth values a metre), else millimetres.

@@ -36,9 +36,10 @@ void requireFolders(const std::string& option, const std::vector<std::filesystem
 }
 
 // The pairs the options ask for: a TUM folder's (--gaps, --pair-stride) or
-// the dataset's (--scenes, --sequences), then those labelled in --pairs.
+// the dataset's (--scenes, --sequences, with `poses` as their ground truth),
+// then those labelled in --pairs.
 std::vector<risas::eval::Pair> pairsFrom(const risas::cli::Args& args, const std::string& root, bool tum,
-                                         const std::string& all_sequences) {
+                                         const std::string& all_sequences, risas::eval::GroundTruthPoses poses) {
   std::vector<risas::eval::Pair> pairs;
   if (tum) {
     std::vector<int> gaps;
@@ -60,7 +61,7 @@ std::vector<risas::eval::Pair> pairsFrom(const risas::cli::Args& args, const std
       for (const std::string& scene : scenes) scene_dirs.push_back(std::filesystem::path(root) / scene);
       requireFolders("sequences", scene_dirs, sequences);
     }
-    pairs = risas::eval::listPairs(root, scenes, sequences);
+    pairs = risas::eval::listPairs(root, scenes, sequences, poses);
   }
   if (args.has("pairs")) {
     const std::vector<std::string> wanted = args.getList("pairs", "");
@@ -143,6 +144,7 @@ int main(int argc, char** argv) {
         {"study", "NAME", "parameter study instead of --methods: bins (n_pie x n_bin x n_vec, one ring), layout (n_ring x n_bin) or tau"},
         {"ransac-seeds", "N", "pose recovery with N RANSAC seeds, success as the share of them (default: 8)"},
         {"pose-refit", "NAME", "umeyama: the pose fitted to the inliers' 3D points (default); reprojection: then refined on their reprojection errors, as risas_odometry"},
+        {"ground-truth", "NAME", "with --data: corrected: a sequence's corrected/ poses where it has them (default, the dataset's README); raw: the arm's R1-k/T1-k.txt, which agree with the images under fitted intrinsics (risas_fit_intrinsics)"},
         {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
@@ -150,6 +152,7 @@ int main(int argc, char** argv) {
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
         "               [--pairs LABEL,...] [--study bins|layout|tau] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
+        "               [--intrinsics K.txt | --fx F --fy F --cx C --cy C] [--ground-truth corrected|raw]\n"
         "               [--params P.yml] [--no-plots]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
         "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
@@ -169,21 +172,27 @@ int main(int argc, char** argv) {
     }
     const risas::eval::PoseRefit refit =
         refit_name == "reprojection" ? risas::eval::PoseRefit::Reprojection : risas::eval::PoseRefit::Umeyama;
+    const std::string poses_name = args.get("ground-truth", "corrected");
+    if (poses_name != "corrected" && poses_name != "raw") {
+      throw risas::cli::UsageError("--ground-truth is corrected or raw, not '" + poses_name + "'");
+    }
+    const risas::eval::GroundTruthPoses poses =
+        poses_name == "raw" ? risas::eval::GroundTruthPoses::Raw : risas::eval::GroundTruthPoses::Corrected;
     const bool tum = args.has("tum");
     if (tum == args.has("data")) throw risas::cli::UsageError("give either --data DATASET_ROOT or --tum TUM_DIR");
     if (tum) {
-      args.refuse({"scenes", "sequences"}, "with --tum");
+      args.refuse({"scenes", "sequences", "ground-truth"}, "with --tum");
     } else {
       args.refuse({"gaps", "pair-stride"}, "with --data");
-      args.refuse(risas::cli::intrinsicsOptionNames(), "with --data: its camera-intrinsics.txt is read");
     }
     if (args.has("study")) args.refuse({"methods"}, "with --study: the study's methods are run");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
+    const risas::Intrinsics intrinsics =
+        tum ? risas::cli::intrinsicsFrom(args) : risas::cli::intrinsicsGivenOrFound(args, root);
     // The output folder, made and checked before hours of work.
     risas::cli::makeOutputFolder(out);
     risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
     const risas::RisasParams params = risas::cli::paramsFrom(args);
-    const risas::Intrinsics intrinsics = tum ? risas::cli::intrinsicsFrom(args) : risas::findIntrinsics(root);
 
     std::vector<std::unique_ptr<risas::eval::FeatureMethod>> methods;
     if (args.has("study")) {
@@ -191,7 +200,7 @@ int main(int argc, char** argv) {
     } else {
       for (const std::string& m : args.getList("methods", all_methods)) methods.push_back(risas::eval::makeMethod(m, params));
     }
-    const std::vector<risas::eval::Pair> pairs = pairsFrom(args, root, tum, all_sequences);
+    const std::vector<risas::eval::Pair> pairs = pairsFrom(args, root, tum, all_sequences, poses);
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
     risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
