@@ -8,7 +8,9 @@
 #include "tool_run.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -101,6 +103,10 @@ TEST(IntrinsicsFit, RollsOnKinectDepthPinThePrincipalPoint) {
 TEST(IntrinsicsFit, RefusesWhatItCannotFit) {
   const std::vector<DepthMatches> pairs = rolledViews({90.0}, false, 3);
   EXPECT_THROW(fitIntrinsics({}, kTrue), InputError);
+  DepthMatches five = pairs.front();
+  for (auto* v : {&five.reference_pixels, &five.query_pixels}) v->resize(5);
+  for (auto* v : {&five.reference_depths, &five.query_depths}) v->resize(5);
+  EXPECT_THROW(fitIntrinsics({five, DepthMatches()}, kTrue), InputError) << "fewer than RANSAC's 6 in every pair";
   EXPECT_THROW(fitIntrinsics(pairs, Intrinsics(0.0, 570.0, 319.5, 239.5)), InputError);
   DepthMatches uneven = pairs.front();
   uneven.query_depths.pop_back();
@@ -126,11 +132,20 @@ TEST(FitIntrinsicsTool, FindsThePrincipalPointOfARenderedOrbit) {
   EXPECT_NE(r.output.find(dir.string() + " 1-4: "), std::string::npos) << r.output;
   const Intrinsics fitted = readIntrinsicsFile(out);
   EXPECT_NEAR(fitted.cx, rendered.cx, 2.0) << r.output;
-  // Bad input: a folder without frames, no folder at all.
-  const test::ToolRun empty = test::runTool("risas_fit_intrinsics --data " + (dir / "none").string() +
-                                            " --intrinsics " + (dir / "camera-intrinsics.txt").string());
-  EXPECT_EQ(empty.exit_code, 1) << empty.output;
-  EXPECT_EQ(std::count(empty.output.begin(), empty.output.end(), '\n'), 1) << empty.output;
+  // Bad input, each a one-line error: a folder without frames, and frames
+  // without depth (nothing to back-project).
+  const fs::path flat = dir / "without_depth";
+  fs::create_directories(flat);
+  for (int k : {1, 2}) {
+    fs::copy_file(dir / ("rgb_" + std::to_string(k) + ".png"), flat / ("rgb_" + std::to_string(k) + ".png"));
+    cv::imwrite((flat / ("depth_" + std::to_string(k) + ".png")).string(), cv::Mat(480, 640, CV_16U, cv::Scalar(0)));
+  }
+  for (const fs::path& bad : {dir / "none", flat}) {
+    const test::ToolRun r = test::runTool("risas_fit_intrinsics --data " + bad.string() + " --intrinsics " +
+                                          (dir / "camera-intrinsics.txt").string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
   EXPECT_EQ(test::runTool("risas_fit_intrinsics --out " + out).exit_code, 2);
   fs::remove_all(dir);
 }

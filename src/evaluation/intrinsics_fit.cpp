@@ -58,7 +58,14 @@ int rigidMatches(const std::vector<DepthMatches>& pairs, const Intrinsics& intri
 
 IntrinsicsFit fitIntrinsics(const std::vector<DepthMatches>& pairs, const Intrinsics& start) {
   start.validate();
-  if (pairs.empty()) throw InputError("no pairs of matches to fit the intrinsics to");
+  const MotionParams motion;
+  const bool any_fit = std::any_of(pairs.begin(), pairs.end(), [&](const DepthMatches& pair) {
+    return pair.reference_pixels.size() >= static_cast<size_t>(motion.min_inliers);
+  });
+  if (!any_fit) {
+    throw InputError("no pair has the " + std::to_string(motion.min_inliers) +
+                     " matches with depth a rigid motion needs: nothing to fit the intrinsics to");
+  }
   IntrinsicsFit fit{start, rigidityCost(pairs, start), 0.0};
   std::array<double, 4> k = {start.fx, start.fy, start.cx, start.cy};
   std::array<double, 4> step = {16.0, 16.0, 16.0, 16.0};

@@ -44,7 +44,7 @@ struct IntrinsicsFit {
 // Coordinate descent on rigidityCost over fx, fy, cx, cy from `start`: each
 // parameter tried 16 px either way, the steps halved when none lowers the
 // cost, down to a quarter pixel. Deterministic. InputError when `start` is
-// not valid or `pairs` is empty.
+// not valid or no pair has the matches a rigid motion needs (6).
 IntrinsicsFit fitIntrinsics(const std::vector<DepthMatches>& pairs, const Intrinsics& start);
 
 }  // namespace risas::eval
