@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 namespace risas::eval {
 namespace {
@@ -116,9 +117,10 @@ TEST(IntrinsicsFit, RefusesWhatItCannotFit) {
 }
 
 // risas_fit_intrinsics on a rendered orbit (15 degrees a frame about the
-// scene's vertical axis) started 40 px off in x: the orbit turns the camera
-// about its y axis, which pins cx (not cy, which a turn about y does not
-// bend); the fitted matrix is written as camera-intrinsics.txt.
+// scene's vertical axis) started 40 px off in x, in the dataset's layout and
+// in TUM's: the orbit turns the camera about its y axis, which pins cx (not
+// cy, which a turn about y does not bend); the fitted matrix is written as
+// camera-intrinsics.txt.
 TEST(FitIntrinsicsTool, FindsThePrincipalPointOfARenderedOrbit) {
   const fs::path dir = fs::temp_directory_path() / ("risas_fit_intrinsics_" + std::to_string(::getpid()));
   ASSERT_EQ(test::runTool("risas_render_synthetic --out " + dir.string() + " --frames 4 --step-deg 15").exit_code, 0);
@@ -132,6 +134,33 @@ TEST(FitIntrinsicsTool, FindsThePrincipalPointOfARenderedOrbit) {
   EXPECT_NE(r.output.find(dir.string() + " 1-4: "), std::string::npos) << r.output;
   const Intrinsics fitted = readIntrinsicsFile(out);
   EXPECT_NEAR(fitted.cx, rendered.cx, 2.0) << r.output;
+  // The same frames as a TUM RGB-D folder without ground truth (none is
+  // needed), pairs two frames (30 degrees) apart.
+  const fs::path tum = dir / "tum";
+  fs::create_directories(tum / "rgb");
+  fs::create_directories(tum / "depth");
+  {
+    std::ofstream rgb_list(tum / "rgb.txt"), depth_list(tum / "depth.txt");
+    for (int k = 1; k <= 4; ++k) {
+      const std::string name = std::to_string(k) + ".png";
+      fs::copy_file(dir / ("rgb_" + name), tum / "rgb" / name);
+      cv::Mat depth;
+      cv::imread((dir / ("depth_" + name)).string(), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
+      cv::imwrite((tum / "depth" / name).string(), depth);
+      rgb_list << k << ".0 rgb/" << name << "\n";
+      depth_list << k << ".0 depth/" << name << "\n";
+    }
+  }
+  const std::string numbers = " --fx " + std::to_string(rendered.fx) + " --fy " + std::to_string(rendered.fy) +
+                              " --cx " + std::to_string(rendered.cx + 40.0) + " --cy " + std::to_string(rendered.cy);
+  const test::ToolRun from_tum =
+      test::runTool("risas_fit_intrinsics --tum " + tum.string() + " --gap 2" + numbers + " --out " + out);
+  ASSERT_EQ(from_tum.exit_code, 0) << from_tum.output;
+  EXPECT_NE(from_tum.output.find(tum.string() + " 1+2: "), std::string::npos) << from_tum.output;
+  EXPECT_NEAR(readIntrinsicsFile(out).cx, rendered.cx, 2.0) << from_tum.output;
+  // Wrong usage: a gap for the dataset layout, a TUM folder without intrinsics.
+  EXPECT_EQ(test::runTool("risas_fit_intrinsics --data " + dir.string() + " --gap 2").exit_code, 2);
+  EXPECT_EQ(test::runTool("risas_fit_intrinsics --tum " + tum.string()).exit_code, 2);
   // Bad input, each a one-line error: a folder without frames, and frames
   // without depth (nothing to back-project).
   const fs::path flat = dir / "without_depth";

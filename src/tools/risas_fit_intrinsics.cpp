@@ -11,6 +11,7 @@
 #include "risas/evaluation/protocol.hpp"
 #include "risas/io.hpp"
 #include "risas/matcher.hpp"
+#include "risas/tum_sequence.hpp"
 
 #include <opencv2/core/utility.hpp>
 
@@ -55,37 +56,71 @@ std::string matrixText(const risas::Intrinsics& K) {
 int main(int argc, char** argv) {
   return risas::cli::runTool("risas_fit_intrinsics", [&] {
     std::vector<risas::cli::Option> options = {
-        {"data", "LIST", "sequence folders (rgb_k.png, depth_k.png in millimetres), comma-separated"},
+        {"data", "LIST", "sequence folders (rgb_k.png, depth_k.png in millimetres), comma-separated: pairs (1, k)"},
+        {"tum", "DIR", "instead of --data: a TUM RGB-D folder (rgb.txt, depth.txt; depth at 5000 a metre): pairs (i, i+gap)"},
+        {"gap", "N", "with --tum: frames between a pair's two (default: 1)"},
+        {"pair-stride", "N", "with --tum: pairs start at every N-th frame (default: 1)"},
         {"out", "K.txt", "write the fitted camera matrix there, as camera-intrinsics.txt"}};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_fit_intrinsics --data SEQ_DIR[,SEQ_DIR...] [--intrinsics K.txt | --fx F --fy F --cx C --cy C] [--out K.txt]\n"
-        "Fits fx, fy, cx, cy so that SIFT's matches between frame 1 and each other frame of the\n"
-        "sequences, back-projected with their depth, move rigidly: a wrong principal point bends\n"
-        "them in every pair the camera rolls between. Starts from the given intrinsics, else from\n"
-        "the camera-intrinsics.txt at or above the first sequence. Prints, per pair and in all,\n"
-        "the matches within 1 cm of their pair's RANSAC motion under the start and under the fit.",
+        "risas_fit_intrinsics --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gap N] [--pair-stride N]\n"
+        "                     [--out K.txt]\n"
+        "Fits fx, fy, cx, cy so that SIFT's matches between the two frames of each pair, back-\n"
+        "projected with their depth, move rigidly: a wrong principal point bends them in every\n"
+        "pair the camera rolls between. Starts from the given intrinsics, else (--data) from the\n"
+        "camera-intrinsics.txt at or above the first sequence. Prints, per pair and in all, the\n"
+        "matches within 1 cm of their pair's RANSAC motion under the start and under the fit.",
         options);
     cv::setNumThreads(1);
-    if (!args.has("data")) throw risas::cli::UsageError("give --data SEQ_DIR[,SEQ_DIR...]");
-    const std::vector<std::string> sequences = args.getList("data", "");
-    const risas::Intrinsics start = risas::cli::intrinsicsGivenOrFound(args, sequences.front());
+    const bool tum = args.has("tum");
+    if (tum == args.has("data")) throw risas::cli::UsageError("give either --data SEQ_DIR[,SEQ_DIR...] or --tum TUM_DIR");
+    if (!tum) args.refuse({"gap", "pair-stride"}, "with --data");
+    const int gap = args.getInt("gap", 1, 1, 1000000), stride = args.getInt("pair-stride", 1, 1, 1000000);
+    const std::vector<std::string> sequences = tum ? std::vector<std::string>{args.get("tum")} : args.getList("data", "");
+    const risas::Intrinsics start =
+        tum ? risas::cli::intrinsicsFrom(args) : risas::cli::intrinsicsGivenOrFound(args, sequences.front());
     if (args.has("out")) risas::cli::requireWritable(args.get("out"));
 
-    const auto sift = risas::eval::makeMethod("SIFT", risas::RisasParams());
-    std::vector<risas::eval::DepthMatches> pairs;
+    // The pairs, each named by its sequence and frames.
+    std::vector<std::pair<risas::eval::FramePaths, risas::eval::FramePaths>> frame_pairs;
     std::vector<std::string> names;
-    for (const std::string& dir : sequences) {
-      const std::vector<risas::SequenceFrame> frames = risas::listSequence(dir);
-      if (frames.size() < 2) throw risas::InputError(dir + ": fewer than two frames (rgb_k.png, depth_k.png)");
-      const risas::RgbdFrame reference = risas::loadRgbdFrame(frames[0].rgb_path, frames[0].depth_path, start);
-      const risas::eval::MethodOutput reference_features = sift->run(reference, cv::Mat());
-      for (size_t k = 1; k < frames.size(); ++k) {
-        pairs.push_back(siftMatches(*sift, reference, reference_features,
-                                    risas::loadRgbdFrame(frames[k].rgb_path, frames[k].depth_path, start)));
-        names.push_back(dir + " 1-" + std::to_string(frames[k].index));
+    if (tum) {
+      const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_fit_intrinsics", sequences.front());
+      const auto& frames = sequence.frames;
+      for (size_t i = 0; i + static_cast<size_t>(gap) < frames.size(); i += static_cast<size_t>(stride)) {
+        const risas::TumFrame &a = frames[i], &b = frames[i + static_cast<size_t>(gap)];
+        frame_pairs.push_back({{a.rgb, a.depth, risas::kTumDepthUnitsPerMetre}, {b.rgb, b.depth, risas::kTumDepthUnitsPerMetre}});
+        names.push_back(sequences.front() + " " + std::to_string(i) + "+" + std::to_string(gap));
       }
+    } else {
+      for (const std::string& dir : sequences) {
+        const std::vector<risas::SequenceFrame> frames = risas::listSequence(dir);
+        if (frames.size() < 2) throw risas::InputError(dir + ": fewer than two frames (rgb_k.png, depth_k.png)");
+        for (size_t k = 1; k < frames.size(); ++k) {
+          frame_pairs.push_back({{frames[0].rgb_path, frames[0].depth_path}, {frames[k].rgb_path, frames[k].depth_path}});
+          names.push_back(dir + " 1-" + std::to_string(frames[k].index));
+        }
+      }
+    }
+    if (frame_pairs.empty()) throw risas::InputError(sequences.front() + ": no pair of frames " + std::to_string(gap) + " apart");
+
+    const auto sift = risas::eval::makeMethod("SIFT", risas::RisasParams());
+    const auto load = [&](const risas::eval::FramePaths& f) {
+      return risas::loadRgbdFrame(f.rgb, f.depth, start, f.depth_units_per_metre);
+    };
+    std::vector<risas::eval::DepthMatches> pairs;
+    std::string reference_path;  // the last reference described: --data's frame 1 once a sequence
+    risas::RgbdFrame reference;
+    risas::eval::MethodOutput reference_features;
+    for (const auto& [reference_frame, query_frame] : frame_pairs) {
+      if (reference_frame.rgb != reference_path) {
+        reference = load(reference_frame);
+        reference_features = sift->run(reference, cv::Mat());
+        reference_path = reference_frame.rgb;
+      }
+      pairs.push_back(siftMatches(*sift, reference, reference_features, load(query_frame)));
     }
     const risas::eval::IntrinsicsFit fit = risas::eval::fitIntrinsics(pairs, start);
     constexpr double kRigid = 0.01;  // metres
