@@ -38,22 +38,36 @@ std::vector<DepthMatches> rolledViews(const std::vector<double>& rolls_deg, bool
     const Eigen::Isometry3d ref_T_query = test::pose({0.02, -0.01, 0.01}, R);
     const auto noisy = [&](double z) { return depth_noise ? z + rng.gaussian(0.0015 * z * z) : z; };
     DepthMatches pair;
+    // One draw a statement: the order of a call's arguments is the
+    // compiler's, and the scene must be the same under gcc and clang.
+    const auto uniform = [&](double lo, double hi) { return rng.uniform(lo, hi); };
+    const auto pixelNoise = [&] {
+      const double du = rng.gaussian(0.3);
+      const double dv = rng.gaussian(0.3);
+      return cv::Point2f(static_cast<float>(du), static_cast<float>(dv));
+    };
     while (pair.reference_pixels.size() < 300) {
-      const bool wall = rng.uniform(0.0, 1.0) < 0.6;
-      const Eigen::Vector3d p = wall ? Eigen::Vector3d(rng.uniform(-0.7, 0.7), rng.uniform(-0.5, 0.5), 1.6)
-                                     : Eigen::Vector3d(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3),
-                                                       rng.uniform(0.9, 1.3));
+      const bool wall = uniform(0.0, 1.0) < 0.6;
+      const double x = wall ? uniform(-0.7, 0.7) : uniform(-0.3, 0.3);
+      const double y = wall ? uniform(-0.5, 0.5) : uniform(-0.3, 0.3);
+      const double z = wall ? 1.6 : uniform(0.9, 1.3);
+      const Eigen::Vector3d p(x, y, z);
       const Eigen::Vector3d q = ref_T_query.inverse() * p;
       const cv::Point2f a = kTrue.project(cv::Point3f(p.x(), p.y(), p.z()));
       const cv::Point2f b = kTrue.project(cv::Point3f(q.x(), q.y(), q.z()));
       const cv::Rect2f image(0, 0, 640, 480);
       if (q.z() <= 0.0 || !image.contains(a) || !image.contains(b)) continue;
-      const bool wrong = rng.uniform(0.0, 1.0) < 0.1;
-      pair.reference_pixels.push_back(a + cv::Point2f(rng.gaussian(0.3), rng.gaussian(0.3)));
-      pair.query_pixels.push_back(wrong ? cv::Point2f(rng.uniform(0.f, 640.f), rng.uniform(0.f, 480.f))
-                                        : b + cv::Point2f(rng.gaussian(0.3), rng.gaussian(0.3)));
+      const bool wrong = uniform(0.0, 1.0) < 0.1;
+      pair.reference_pixels.push_back(a + pixelNoise());
+      if (wrong) {
+        const double u = uniform(0.0, 640.0);
+        const double v = uniform(0.0, 480.0);
+        pair.query_pixels.push_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)));
+      } else {
+        pair.query_pixels.push_back(b + pixelNoise());
+      }
       pair.reference_depths.push_back(static_cast<float>(noisy(p.z())));
-      pair.query_depths.push_back(static_cast<float>(wrong ? rng.uniform(0.9, 1.6) : noisy(q.z())));
+      pair.query_depths.push_back(static_cast<float>(wrong ? uniform(0.9, 1.6) : noisy(q.z())));
     }
     pairs.push_back(pair);
   }
@@ -83,12 +97,12 @@ TEST(IntrinsicsFit, RollsOnKinectDepthPinThePrincipalPoint) {
   const std::vector<DepthMatches> pairs = rolledViews({30.0, 90.0, 150.0, -150.0, -60.0}, true, 2);
   const Intrinsics start(547.0, 547.0, 379.5, 224.5);
   const IntrinsicsFit fit = fitIntrinsics(pairs, start);
-  // Over ten noise seeds: cx within 0.5 px, cy within 2 px (the tilts about
-  // x lean on it).
+  // Over twenty noise seeds: cx within 0.5 px, cy within 1.5 px (the tilts
+  // about x lean on it).
   EXPECT_NEAR(fit.intrinsics.cx, kTrue.cx, 1.0);
   EXPECT_NEAR(fit.intrinsics.cy, kTrue.cy, 3.0);
   // The rolls see the focal length only through the 3-degree tilts, so it is
-  // pinned loosely: 533-569 px over the ten seeds from 547 (the dataset's
+  // pinned loosely: 547-581 px over the twenty seeds from 547 (the dataset's
   // fits differ by 8 px from two starts). It must not wander further.
   EXPECT_NEAR(fit.intrinsics.fx, kTrue.fx, 0.1 * kTrue.fx);
   EXPECT_NEAR(fit.intrinsics.fy, kTrue.fy, 0.1 * kTrue.fy);

@@ -11,6 +11,7 @@ namespace risas::eval {
 namespace {
 
 constexpr double kInlierMetres = 0.03;  // the evaluation's RANSAC inlier distance
+constexpr double kScanPixels = 96.0, kScanStep = 8.0;  // the principal point's scan about the start
 
 // Each match's residual under its pair's RANSAC motion, given `intrinsics`.
 template <typename PerResidual>
@@ -68,9 +69,25 @@ IntrinsicsFit fitIntrinsics(const std::vector<DepthMatches>& pairs, const Intrin
   }
   IntrinsicsFit fit{start, rigidityCost(pairs, start), 0.0};
   std::array<double, 4> k = {start.fx, start.fy, start.cx, start.cy};
-  std::array<double, 4> step = {16.0, 16.0, 16.0, 16.0};
   const auto intrinsicsOf = [](const std::array<double, 4>& p) { return Intrinsics(p[0], p[1], p[2], p[3]); };
   double best = fit.cost_before;
+  // The principal point scanned first: the cost is jagged (RANSAC takes
+  // other inliers as K moves), and a descent from a point 60 px off can
+  // stop on a ridge before it.
+  const std::array<double, 4> scan_centre = k;
+  for (double dx = -kScanPixels; dx <= kScanPixels; dx += kScanStep) {
+    for (double dy = -kScanPixels; dy <= kScanPixels; dy += kScanStep) {
+      std::array<double, 4> trial = scan_centre;
+      trial[2] += dx;
+      trial[3] += dy;
+      const double cost = rigidityCost(pairs, intrinsicsOf(trial));
+      if (cost < best) {
+        best = cost;
+        k = trial;
+      }
+    }
+  }
+  std::array<double, 4> step = {16.0, 16.0, 16.0, 16.0};
   // Each accepted move lowers the cost; the bound only guards the loop.
   for (int sweep = 0; sweep < 1000 && step[0] >= 0.25; ++sweep) {
     bool moved = false;

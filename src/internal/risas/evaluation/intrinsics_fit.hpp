@@ -41,10 +41,13 @@ struct IntrinsicsFit {
   double cost_before = 0.0, cost_after = 0.0;  // rigidityCost at the start and at the fit
 };
 
-// Coordinate descent on rigidityCost over fx, fy, cx, cy from `start`: each
-// parameter tried 16 px either way, the steps halved when none lowers the
-// cost, down to a quarter pixel. Deterministic. InputError when `start` is
-// not valid or no pair has the matches a rigid motion needs (6).
+// Minimises rigidityCost over fx, fy, cx, cy from `start`: the principal
+// point scanned over start ± 96 px in steps of 8 px (the cost is jagged, and
+// a descent alone can stop tens of pixels short), then coordinate descent
+// from the best, each parameter tried 16 px either way, the steps halved
+// when none lowers the cost, down to a quarter pixel. Deterministic.
+// InputError when `start` is not valid or no pair has the matches a rigid
+// motion needs (6).
 IntrinsicsFit fitIntrinsics(const std::vector<DepthMatches>& pairs, const Intrinsics& start);
 
 }  // namespace risas::eval
