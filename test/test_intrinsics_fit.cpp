@@ -184,10 +184,10 @@ TEST(FitIntrinsicsTool, FindsThePrincipalPointOfARenderedOrbit) {
     cv::imwrite((flat / ("depth_" + std::to_string(k) + ".png")).string(), cv::Mat(480, 640, CV_16U, cv::Scalar(0)));
   }
   for (const fs::path& bad : {dir / "none", flat}) {
-    const test::ToolRun r = test::runTool("risas_fit_intrinsics --data " + bad.string() + " --intrinsics " +
-                                          (dir / "camera-intrinsics.txt").string());
-    EXPECT_EQ(r.exit_code, 1) << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    const test::ToolRun refused = test::runTool("risas_fit_intrinsics --data " + bad.string() + " --intrinsics " +
+                                                (dir / "camera-intrinsics.txt").string());
+    EXPECT_EQ(refused.exit_code, 1) << refused.output;
+    EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;
   }
   EXPECT_EQ(test::runTool("risas_fit_intrinsics --out " + out).exit_code, 2);
   fs::remove_all(dir);

@@ -1,8 +1,9 @@
 // risas_fit_intrinsics: the camera matrix under which a recording's matches
 // move rigidly (evaluation/intrinsics_fit.hpp), from SIFT's matches between
 // frame 1 and every other frame of sequences in the ManipulatorsDataset
-// layout. SIFT, not RISAS or ORB: the intrinsics then judge the methods the
-// evaluation compares without having been fitted to any of them.
+// layout, or between frames i and i + gap of a TUM RGB-D folder. SIFT, not
+// RISAS or ORB: the intrinsics then judge the methods the evaluation
+// compares without having been fitted to any of them.
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
@@ -22,9 +23,9 @@
 
 namespace {
 
-// SIFT's matches (ratio 0.8) of frame k against frame 1, each keypoint at
-// the median depth of its 3x3 pixels (the evaluation's keypointPoint);
-// matches without depth in either frame are left out.
+// SIFT's matches (ratio 0.8) of the query frame against the reference, each
+// keypoint at the median depth of its 3x3 pixels (the evaluation's
+// keypointPoint); matches without depth in either frame are left out.
 risas::eval::DepthMatches siftMatches(const risas::eval::FeatureMethod& sift, const risas::RgbdFrame& reference,
                                       const risas::eval::MethodOutput& reference_features,
                                       const risas::RgbdFrame& query) {
