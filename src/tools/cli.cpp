@@ -170,6 +170,21 @@ Intrinsics intrinsicsGivenOrFound(const Args& args, const std::string& dir) {
   return given ? intrinsicsFrom(args) : findIntrinsics(dir);
 }
 
+void writeMatrixFile(const std::string& path, const Eigen::MatrixXd& m) {
+  std::ostringstream out;
+  out << std::setprecision(12);
+  for (int r = 0; r < m.rows(); ++r) {
+    for (int c = 0; c < m.cols(); ++c) out << (c ? " " : "") << m(r, c);
+    out << "\n";
+  }
+  writeTextFile(path, out.str(), "matrix file");
+}
+
+void writeIntrinsicsFile(const std::string& path, const Intrinsics& K) {
+  const cv::Matx33d matrix = K.matrix();
+  writeMatrixFile(path, Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(matrix.val)));
+}
+
 RisasParams paramsFrom(const Args& args) {
   return args.has("params") ? RisasParams::load(args.get("params")) : RisasParams();
 }

@@ -7,6 +7,8 @@
 #include "risas/rgbd_frame.hpp"
 #include "risas/tum_sequence.hpp"
 
+#include <Eigen/Core>
+
 #include <functional>
 #include <map>
 #include <string>
@@ -68,6 +70,13 @@ std::vector<Option> intrinsicsOptions();
 std::vector<std::string> intrinsicsOptionNames();
 Option depthUnitsOption();
 Option paramsOption();
+
+// `m` as text, a row a line, numbers to 12 digits: the dataset's R1-k.txt,
+// T1-k.txt and camera-intrinsics.txt, which readMatrixFile reads back.
+// InputError when it cannot be written (writeTextFile).
+void writeMatrixFile(const std::string& path, const Eigen::MatrixXd& m);
+// K's 3x3 matrix so, as camera-intrinsics.txt (readIntrinsicsFile).
+void writeIntrinsicsFile(const std::string& path, const Intrinsics& K);
 
 // InputError unless `path` can be written: its folder exists and is
 // writable, and the file, if there, is too. Tools check their outputs with

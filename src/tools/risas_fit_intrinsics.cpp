@@ -16,10 +16,7 @@
 
 #include <opencv2/core/utility.hpp>
 
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <sstream>
 
 namespace {
 
@@ -44,12 +41,6 @@ risas::eval::DepthMatches siftMatches(const risas::eval::FeatureMethod& sift, co
     out.query_depths.push_back(zb);
   }
   return out;
-}
-
-std::string matrixText(const risas::Intrinsics& K) {
-  std::ostringstream text;
-  text << std::fixed << std::setprecision(2) << K.fx << " 0 " << K.cx << "\n0 " << K.fy << " " << K.cy << "\n0 0 1\n";
-  return text.str();
 }
 
 }  // namespace
@@ -125,20 +116,21 @@ int main(int argc, char** argv) {
     }
     const risas::eval::IntrinsicsFit fit = risas::eval::fitIntrinsics(pairs, start);
     constexpr double kRigid = 0.01;  // metres
+    int rigid_before = 0, rigid_after = 0;
     for (size_t i = 0; i < pairs.size(); ++i) {
-      std::cout << names[i] << ": " << pairs[i].reference_pixels.size() << " matches, within 1 cm "
-                << risas::eval::rigidMatches({pairs[i]}, start, kRigid) << " -> "
-                << risas::eval::rigidMatches({pairs[i]}, fit.intrinsics, kRigid) << "\n";
+      const int before = risas::eval::rigidMatches({pairs[i]}, start, kRigid);
+      const int after = risas::eval::rigidMatches({pairs[i]}, fit.intrinsics, kRigid);
+      rigid_before += before;
+      rigid_after += after;
+      std::cout << names[i] << ": " << pairs[i].reference_pixels.size() << " matches, within 1 cm " << before
+                << " -> " << after << "\n";
     }
     std::cout << "start:  fx " << start.fx << " fy " << start.fy << " cx " << start.cx << " cy " << start.cy
-              << ", cost " << fit.cost_before << ", within 1 cm " << risas::eval::rigidMatches(pairs, start, kRigid)
-              << "\nfitted: fx " << fit.intrinsics.fx << " fy " << fit.intrinsics.fy << " cx " << fit.intrinsics.cx
-              << " cy " << fit.intrinsics.cy << ", cost " << fit.cost_after << ", within 1 cm "
-              << risas::eval::rigidMatches(pairs, fit.intrinsics, kRigid) << "\n";
+              << ", cost " << fit.cost_before << ", within 1 cm " << rigid_before << "\nfitted: fx "
+              << fit.intrinsics.fx << " fy " << fit.intrinsics.fy << " cx " << fit.intrinsics.cx << " cy "
+              << fit.intrinsics.cy << ", cost " << fit.cost_after << ", within 1 cm " << rigid_after << "\n";
     if (args.has("out")) {
-      std::ofstream out(args.get("out"));
-      out << matrixText(fit.intrinsics);
-      if (!out.flush()) throw risas::InputError("cannot write " + args.get("out"));
+      risas::cli::writeIntrinsicsFile(args.get("out"), fit.intrinsics);
       std::cout << "written to " << args.get("out") << "\n";
     }
     return 0;

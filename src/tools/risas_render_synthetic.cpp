@@ -7,23 +7,7 @@
 #include "risas/synthetic_scene.hpp"
 
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
-#include <sstream>
-
-namespace {
-
-void writeMatrix(const std::string& path, const Eigen::MatrixXd& m) {
-  std::ostringstream out;
-  out << std::setprecision(12);
-  for (int r = 0; r < m.rows(); ++r) {
-    for (int c = 0; c < m.cols(); ++c) out << (c ? " " : "") << m(r, c);
-    out << "\n";
-  }
-  risas::writeTextFile(path, out.str(), "matrix file");
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   return risas::cli::runTool("risas_render_synthetic", [&] {
@@ -42,7 +26,7 @@ int main(int argc, char** argv) {
 
     const risas::SyntheticScene scene = risas::SyntheticScene::demo();
     const risas::Intrinsics K = risas::syntheticIntrinsics();
-    writeMatrix((dir / "camera-intrinsics.txt").string(), Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(K.matrix().val)));
+    risas::cli::writeIntrinsicsFile((dir / "camera-intrinsics.txt").string(), K);
     Eigen::Isometry3d world_T_first = Eigen::Isometry3d::Identity();
     for (int k = 1; k <= frames; ++k) {
       const Eigen::Isometry3d world_T_camera = risas::SyntheticScene::demoCamera((k - 1) * step);
@@ -52,8 +36,8 @@ int main(int argc, char** argv) {
       risas::writeImage((dir / ("rgb_" + n + ".png")).string(), render.bgr, "colour image");
       risas::writeImage((dir / ("depth_" + n + ".png")).string(), render.depth_mm, "depth image");
       const Eigen::Isometry3d first_T_k = world_T_first.inverse() * world_T_camera;
-      writeMatrix((dir / ("R1-" + n + ".txt")).string(), first_T_k.linear());
-      writeMatrix((dir / ("T1-" + n + ".txt")).string(), first_T_k.translation());
+      risas::cli::writeMatrixFile((dir / ("R1-" + n + ".txt")).string(), first_T_k.linear());
+      risas::cli::writeMatrixFile((dir / ("T1-" + n + ".txt")).string(), first_T_k.translation());
     }
     std::cout << frames << " frames written to " << dir.string() << "\n";
     return 0;
