@@ -82,6 +82,11 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
   const bool depth_checkable = pair.image_rotation_deg == 0.0;
   const double truth_agreement =
       depth_checkable ? depthAgreement(query_depth, reference_depth, intrinsics_, pair.ref_T_query) : NAN;
+  // Every method's poses judged on the same points. A rotated image's
+  // points are the unrotated frame's (its keypoints take that depth, and
+  // ref_T_query is the identity).
+  const std::vector<cv::Point3f> judged_points =
+      sharedScene(depth_checkable ? query_depth : reference_depth, reference_depth, intrinsics_, pair.ref_T_query);
   std::vector<PairResult> results;
   for (const auto& method : methods_) {
     const auto key = std::make_pair(method->name(), pair.reference.rgb);
@@ -119,9 +124,8 @@ std::vector<PairResult> Evaluator::evaluate(const Pair& pair) {
     r.auc = prAuc(curve);
     r.at_ratio = atThreshold(curve, report_ratio_);
     r.distinct_correct = distinctCorrectMatches(r.candidates, query_pixels, reference_pixels, report_ratio_);
-    const std::vector<PoseRecovery> poses =
-        recoverPoseOverSeeds(r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, ransac_seeds_,
-                             refit_);
+    const std::vector<PoseRecovery> poses = recoverPoseOverSeeds(
+        r.candidates, report_ratio_, query_points, reference_points, pair.ref_T_query, judged_points, ransac_seeds_, refit_);
     // The depth check: the first seed's pose, reported, and every miss.
     std::vector<double> agreements;
     for (size_t k = 0; k < poses.size(); ++k) {

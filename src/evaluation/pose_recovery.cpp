@@ -27,6 +27,36 @@ PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& 
   return e;
 }
 
+namespace {
+
+// visit(q, landing) for every `step`-th query pixel with depth, q its
+// back-projected point, that ref_T_query moves inside the reference image in
+// front of the camera (landInReference).
+template <class Visit>
+void forEachLanding(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
+                    const Eigen::Isometry3d& ref_T_query, int step, Visit&& visit) {
+  CV_Assert(query_depth.type() == CV_32FC1 && reference_depth.type() == CV_32FC1 && step > 0);
+  for (int v = 0; v < query_depth.rows; v += step) {
+    const float* depth = query_depth.ptr<float>(v);
+    for (int u = 0; u < query_depth.cols; u += step) {
+      if (!(depth[u] > 0.0f)) continue;  // NaN: no depth
+      const cv::Point3f q = K.backProject(static_cast<float>(u), static_cast<float>(v), depth[u]);
+      const auto landing = landInReference(Eigen::Vector3d(q.x, q.y, q.z), ref_T_query, K, reference_depth);
+      if (landing) visit(q, *landing);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<cv::Point3f> sharedScene(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
+                                     const Eigen::Isometry3d& ref_T_query, int step) {
+  std::vector<cv::Point3f> scene;
+  forEachLanding(query_depth, reference_depth, K, ref_T_query, step,
+                 [&](const cv::Point3f& q, const Landing&) { scene.push_back(q); });
+  return scene;
+}
+
 double inlierSpread(const std::vector<cv::Point3f>& points) {
   if (points.size() < 2) return 0.0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -45,19 +75,12 @@ double inlierSpread(const std::vector<cv::Point3f>& points) {
 
 double depthAgreement(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
                       const Eigen::Isometry3d& ref_T_query, double tolerance, int step) {
-  CV_Assert(query_depth.type() == CV_32FC1 && reference_depth.type() == CV_32FC1 && step > 0);
   long landed = 0, agreeing = 0;
-  for (int v = 0; v < query_depth.rows; v += step) {
-    const float* depth = query_depth.ptr<float>(v);
-    for (int u = 0; u < query_depth.cols; u += step) {
-      if (!(depth[u] > 0.0f)) continue;  // NaN: no depth
-      const cv::Point3f q = K.backProject(static_cast<float>(u), static_cast<float>(v), depth[u]);
-      const auto landing = landInReference(Eigen::Vector3d(q.x, q.y, q.z), ref_T_query, K, reference_depth);
-      if (!landing || !(landing->depth_there > 0.0f)) continue;
-      ++landed;
-      if (std::abs(landing->depth_there - landing->depth) <= tolerance) ++agreeing;
-    }
-  }
+  forEachLanding(query_depth, reference_depth, K, ref_T_query, step, [&](const cv::Point3f&, const Landing& landing) {
+    if (!(landing.depth_there > 0.0f)) return;
+    ++landed;
+    if (std::abs(landing.depth_there - landing.depth) <= tolerance) ++agreeing;
+  });
   return landed > 0 ? static_cast<double>(agreeing) / static_cast<double>(landed) : NAN;
 }
 
@@ -72,7 +95,7 @@ MotionParams poseRecoveryRansac(int seed_index) {
 PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
-                         const MotionParams& ransac, PoseRefit refit) {
+                         const std::vector<cv::Point3f>& judged_points, const MotionParams& ransac, PoseRefit refit) {
   std::vector<cv::DMatch> matches;
   for (const Candidate& c : candidates) {
     if (c.ratio <= ratio && c.query >= 0 && c.reference >= 0) matches.emplace_back(c.query, c.reference, 0.0f);
@@ -92,18 +115,20 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
     if (m.inliers[i]) inlier_points.push_back(query_points[static_cast<size_t>(matches[i].queryIdx)]);
   }
   r.inlier_spread_m = inlierSpread(inlier_points);
-  r.error = poseError(m.train_T_query, ref_T_query, query_points);
+  r.error = poseError(m.train_T_query, ref_T_query, judged_points);
   return r;
 }
 
 std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
                                                const std::vector<cv::Point3f>& query_points,
                                                const std::vector<cv::Point3f>& reference_points,
-                                               const Eigen::Isometry3d& ref_T_query, int seeds, PoseRefit refit) {
+                                               const Eigen::Isometry3d& ref_T_query,
+                                               const std::vector<cv::Point3f>& judged_points, int seeds, PoseRefit refit) {
   CV_Assert(seeds >= 1);
   std::vector<PoseRecovery> poses;
   for (int k = 0; k < seeds; ++k) {
-    poses.push_back(recoverPose(candidates, ratio, query_points, reference_points, ref_T_query, poseRecoveryRansac(k), refit));
+    poses.push_back(recoverPose(candidates, ratio, query_points, reference_points, ref_T_query, judged_points,
+                                poseRecoveryRansac(k), refit));
   }
   return poses;
 }

@@ -21,10 +21,21 @@ struct PoseError {
 };
 
 // The error of `estimate` against `truth` (both ref_T_query), the alignment
-// over `points` (the query frame's keypoints). Infinite alignment when
-// there are no points.
+// over `points` (query-frame points: the report's are sharedScene's).
+// Infinite alignment when there are no points.
 PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
                     const std::vector<cv::Point3f>& points);
+
+// The points a pair's poses are judged on, the same for every method: the
+// query frame's scene that both cameras see. Every `step`-th query pixel
+// with depth, back-projected, whose point ref_T_query moves inside the
+// reference image (reference_depth's size) in front of the camera. Judged
+// on a method's own keypoints instead, an estimate is measured where its
+// matches are, which is where it fits best, and two methods' estimates of
+// the same accuracy score apart (docs/evaluation.md, "The pose judged on
+// the shared scene"). Depths: CV_32FC1 metres, NaN where missing.
+std::vector<cv::Point3f> sharedScene(const cv::Mat& query_depth, const cv::Mat& reference_depth, const Intrinsics& K,
+                                     const Eigen::Isometry3d& ref_T_query, int step = 4);
 
 struct PoseRecovery {
   int matches = 0;         // at the ratio, the RANSAC's input
@@ -75,11 +86,12 @@ enum class PoseRefit { Umeyama, Reprojection };
 MotionParams poseRecoveryRansac(int seed_index = 0);
 
 // The candidates with ratio <= `ratio` as matches, their rigid motion by
-// RANSAC and `refit`, scored against ref_T_query.
+// RANSAC and `refit`, scored against ref_T_query over `judged_points`
+// (poseError).
 PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
-                         const MotionParams& ransac = poseRecoveryRansac(), PoseRefit refit = PoseRefit::Umeyama);
+                         const std::vector<cv::Point3f>& judged_points, const MotionParams& ransac = poseRecoveryRansac(), PoseRefit refit = PoseRefit::Umeyama);
 
 // recoverPose once with each of the first `seeds` RANSAC seeds
 // (poseRecoveryRansac(0 .. seeds - 1)), in that order. Where the inliers are
@@ -88,7 +100,8 @@ PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
 std::vector<PoseRecovery> recoverPoseOverSeeds(const std::vector<Candidate>& candidates, double ratio,
                                                const std::vector<cv::Point3f>& query_points,
                                                const std::vector<cv::Point3f>& reference_points,
-                                               const Eigen::Isometry3d& ref_T_query, int seeds,
+                                               const Eigen::Isometry3d& ref_T_query,
+                                               const std::vector<cv::Point3f>& judged_points, int seeds,
                                                PoseRefit refit = PoseRefit::Umeyama);
 
 }  // namespace risas::eval
