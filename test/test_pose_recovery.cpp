@@ -107,8 +107,8 @@ TEST(PoseRecovery, TheSharedSceneIsTheQuerysDepthThatBothCamerasSee) {
 // Two methods whose matches give the same estimate, 2 degrees about the
 // optical axis from the truth: one's keypoints lie near the axis, where
 // that error moves points little, the other's near the image's corners.
-// Judged on their own keypoints they would score under 5 mm and over 3.5 cm; on
-// the shared scene they score alike.
+// Judged on their own keypoints they would score under 5 mm and over
+// 3.5 cm; on the shared scene they score alike.
 TEST(PoseRecovery, EveryMethodIsJudgedOnTheSameScene) {
   const Intrinsics K(100, 100, 50, 40);
   const cv::Mat depth(80, 100, CV_32FC1, cv::Scalar(2.0f));

@@ -91,7 +91,8 @@ MotionParams poseRecoveryRansac(int seed_index = 0);
 PoseRecovery recoverPose(const std::vector<Candidate>& candidates, double ratio,
                          const std::vector<cv::Point3f>& query_points,
                          const std::vector<cv::Point3f>& reference_points, const Eigen::Isometry3d& ref_T_query,
-                         const std::vector<cv::Point3f>& judged_points, const MotionParams& ransac = poseRecoveryRansac(), PoseRefit refit = PoseRefit::Umeyama);
+                         const std::vector<cv::Point3f>& judged_points,
+                         const MotionParams& ransac = poseRecoveryRansac(), PoseRefit refit = PoseRefit::Umeyama);
 
 // recoverPose once with each of the first `seeds` RANSAC seeds
 // (poseRecoveryRansac(0 .. seeds - 1)), in that order. Where the inliers are
