@@ -4,7 +4,8 @@
 // likewise, found once (Axis). Row by row, the values a row needs are
 // gathered into arrays and the arithmetic runs over the arrays in loops that
 // vectorise; the background's reach is looked for only where there is
-// background, and the votes' directions come in one vectorised call.
+// background, each row's voters are one word of bits, and the votes'
+// directions come in one vectorised call.
 #include "gradient_orientation.hpp"
 
 #include "risas/orientation_histogram.hpp"
@@ -75,6 +76,7 @@ struct OrientationBuffers {
   std::vector<SampleKind> kind;              // the grid, row by row
   std::vector<float> grey;
   std::vector<uint64_t> background, reach;   // a bit per column, per row: Background; Background within kBlurReach
+  std::vector<uint64_t> counted;             // a bit per column, per row: Counted
   std::vector<float> gx, gy, degrees;
   std::vector<double> gaussian, weight;
   int gaussian_radius = -1;                  // the disc radius gaussian was made for
@@ -117,23 +119,23 @@ void blendRow(int count, float fraction, const float* coarser, float* finer) {
   for (int i = 0; i < count; ++i) finer[i] = (1.0f - fraction) * finer[i] + fraction * coarser[i];
 }
 
-// Bit i set where kinds[i] is Background, i < count <= 64: eight kinds at a
-// time, each byte's Background bit (SampleKind's value 2) gathered into one
-// byte by a multiplication.
-uint64_t backgroundBits(const SampleKind* kinds, int count) {
-  static_assert(static_cast<int>(SampleKind::Background) == 2 && static_cast<int>(SampleKind::Counted) == 0 &&
-                    static_cast<int>(SampleKind::Uncounted) == 1,
-                "the byte trick reads bit 1 as Background");
+// Bit i set where kinds[i] is `kind`, i < count < 64: eight kinds at a
+// time, each byte compared with `kind` and its equality bit gathered into
+// one byte by a multiplication.
+uint64_t kindBits(const SampleKind* kinds, int count, SampleKind kind) {
+  static_assert(static_cast<int>(SampleKind::Background) < 4, "a kind's value fits its byte's two low bits");
+  const uint64_t wanted = static_cast<uint64_t>(kind) * 0x0101010101010101ULL;
   uint64_t bits = 0;
   for (int i = 0; i < count; i += 8) {
     uint8_t bytes[8] = {};
     std::memcpy(bytes, kinds + i, static_cast<size_t>(std::min(8, count - i)));
     uint64_t word;
     std::memcpy(&word, bytes, sizeof word);
-    const uint64_t flags = (word >> 1) & 0x0101010101010101ULL;  // one bit a byte, little-endian order
+    const uint64_t differ = word ^ wanted;  // zero in a byte's two low bits where it is `kind`
+    const uint64_t flags = ~(differ | differ >> 1) & 0x0101010101010101ULL;  // one bit a byte, little-endian order
     bits |= ((flags * 0x0102040810204080ULL) >> 56) << i;
   }
-  return bits;
+  return bits & ((uint64_t{1} << count) - 1);  // the padding's bytes past count
 }
 
 // Each row's bits widened by kBlurReach columns to each side.
@@ -146,7 +148,7 @@ uint64_t widened(uint64_t bits) {
 }  // namespace
 
 bool gradientOrientationKernelFits(const DescriptorParams& params) {
-  return 2 * (params.patch_radius + 1 + kBlurReach) + 1 <= 64;  // a grid row's bits in one word
+  return 2 * (params.patch_radius + 1 + kBlurReach) + 1 < 64;  // a grid row's bits in one word
 }
 
 double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& nb,
@@ -192,6 +194,7 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
   const float t2 = static_cast<float>(params.background_distance * params.background_distance);
   const int first_read = half - read, read_count = 2 * read + 1;
   b.background.assign(columns, 0);
+  b.counted.assign(columns, 0);
   // The row's gathers through local pointers: the byte stores would
   // otherwise make the compiler reload every vector's data pointer.
   const int* nearest_column = b.columns.nearest.data();
@@ -217,7 +220,8 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
     } else {
       std::fill(kinds, kinds + side, SampleKind::Background);
     }
-    b.background[static_cast<size_t>(j)] = backgroundBits(kinds, side);
+    b.background[static_cast<size_t>(j)] = kindBits(kinds, side, SampleKind::Background);
+    b.counted[static_cast<size_t>(j)] = kindBits(kinds, side, SampleKind::Counted);
     if (std::abs(j - half) > read) continue;
     float* greys = b.grey.data() + static_cast<size_t>(j) * columns + first_read;
     for (int m = 0; m < levels_read; ++m) {
@@ -261,37 +265,50 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
   }
 
   // The votes: gradients of the clear disc samples whose four neighbours
-  // count, with their Gaussian weights; their directions in one call.
+  // count, with their Gaussian weights; their directions in one call. Each
+  // row's voters are one word of bits (the disc's span, clear of the
+  // background, counted, and so are the neighbours left, right, above and
+  // below), visited in the readable rule's order.
   if (b.gaussian_radius != n) {  // made once for the thread's patch_radius
     b.gaussian.resize(static_cast<size_t>(2 * n + 1));
     for (int i = -n; i <= n; ++i) b.gaussian[static_cast<size_t>(i + n)] = std::exp(-0.5 * i * i / (n * n));
     b.gaussian_radius = n;
   }
-  b.gx.clear(), b.gy.clear(), b.weight.clear();
-  const auto at = [&](int i, int j) { return static_cast<size_t>((j + half) * side + (i + half)); };
-  const auto counted = [&](size_t s) { return b.kind[s] == SampleKind::Counted; };
+  const size_t most = columns * columns;
+  for (auto* v : {&b.gx, &b.gy, &b.degrees}) v->resize(most);
+  b.weight.resize(most);
+  int count = 0;
   for (int j = -n; j <= n; ++j) {
     const int extent = static_cast<int>(std::sqrt(static_cast<double>(n * n - j * j)));  // the disc's half-width in this row
-    for (int i = -extent; i <= extent; ++i) {
-      const size_t s = at(i, j);
-      const bool near_background = b.reach[static_cast<size_t>(j + half)] >> (i + half) & 1;
-      if (near_background || !counted(s) || !counted(s - 1) || !counted(s + 1) || !counted(s - columns) ||
-          !counted(s + columns)) {
-        continue;
-      }
-      const float gx = b.grey[s + 1] - b.grey[s - 1], gy = b.grey[s + columns] - b.grey[s - columns];
+    const size_t row = static_cast<size_t>(j + half);
+    const uint64_t disc = ((uint64_t{1} << (2 * extent + 1)) - 1) << (half - extent);
+    const uint64_t here = b.counted[row];
+    uint64_t voters = disc & ~b.reach[row] & here & here << 1 & here >> 1 & b.counted[row - 1] & b.counted[row + 1];
+    const float* grey_row = b.grey.data() + row * columns;
+    const double row_weight = b.gaussian[static_cast<size_t>(j + n)];
+    for (; voters != 0; voters &= voters - 1) {
+      const int column = __builtin_ctzll(voters);
+      const float* g = grey_row + column;
+      const float gx = g[1] - g[-1], gy = g[columns] - g[-static_cast<std::ptrdiff_t>(columns)];
       if (gx == 0.0f && gy == 0.0f) continue;
-      b.gx.push_back(gx), b.gy.push_back(gy);
-      b.weight.push_back(std::sqrt(gx * gx + gy * gy) * b.gaussian[static_cast<size_t>(i + n)] *
-                         b.gaussian[static_cast<size_t>(j + n)]);
+      b.gx[static_cast<size_t>(count)] = gx, b.gy[static_cast<size_t>(count)] = gy;
+      b.weight[static_cast<size_t>(count)] =
+          std::sqrt(gx * gx + gy * gy) * b.gaussian[static_cast<size_t>(column - half + n)] * row_weight;
+      ++count;
     }
   }
-  const int count = static_cast<int>(b.gx.size());
-  b.degrees.resize(b.gx.size());
   if (count > 0) cv::hal::fastAtan32f(b.gy.data(), b.gx.data(), b.degrees.data(), count, true);
-  OrientationHistogram histogram{};
+  // Successive votes often fall into the same bins: four histograms, one
+  // vote each in turn, keep the additions from waiting on each other. The
+  // sum is the readable rule's in another order.
+  OrientationHistogram partial[4] = {};
   for (int s = 0; s < count; ++s) {
-    voteDirection(histogram, b.degrees[static_cast<size_t>(s)], b.weight[static_cast<size_t>(s)]);
+    voteDirection(partial[s & 3], b.degrees[static_cast<size_t>(s)], b.weight[static_cast<size_t>(s)]);
+  }
+  OrientationHistogram histogram{};
+  for (int bin = 0; bin < kOrientationBins; ++bin) {
+    const size_t k = static_cast<size_t>(bin);
+    histogram[k] = (partial[0][k] + partial[1][k]) + (partial[2][k] + partial[3][k]);
   }
   return histogramPeak(histogram);
 }
