@@ -121,21 +121,21 @@ void blendRow(int count, float fraction, const float* coarser, float* finer) {
 
 // Bit i set where kinds[i] is `kind`, i < count < 64: eight kinds at a
 // time, each byte compared with `kind` and its equality bit gathered into
-// one byte by a multiplication.
+// one byte by a multiplication. Reads up to 7 bytes past kinds[count - 1]
+// (the grid's next row, or kKindSlack), whose bits are masked off.
+constexpr size_t kKindSlack = 8;
 uint64_t kindBits(const SampleKind* kinds, int count, SampleKind kind) {
   static_assert(static_cast<int>(SampleKind::Background) < 4, "a kind's value fits its byte's two low bits");
   const uint64_t wanted = static_cast<uint64_t>(kind) * 0x0101010101010101ULL;
   uint64_t bits = 0;
   for (int i = 0; i < count; i += 8) {
-    uint8_t bytes[8] = {};
-    std::memcpy(bytes, kinds + i, static_cast<size_t>(std::min(8, count - i)));
     uint64_t word;
-    std::memcpy(&word, bytes, sizeof word);
+    std::memcpy(&word, kinds + i, sizeof word);
     const uint64_t differ = word ^ wanted;  // zero in a byte's two low bits where it is `kind`
     const uint64_t flags = ~(differ | differ >> 1) & 0x0101010101010101ULL;  // one bit a byte, little-endian order
     bits |= ((flags * 0x0102040810204080ULL) >> 56) << i;
   }
-  return bits & ((uint64_t{1} << count) - 1);  // the padding's bytes past count
+  return bits & ((uint64_t{1} << count) - 1);  // not the bytes past count
 }
 
 // Each row's bits widened by kBlurReach columns to each side.
@@ -185,7 +185,7 @@ double gradientOrientationKernel(const GreyPyramid& grey, const FrameGeometry& g
     b.along_row[m] = -1;
   }
   b.on_surface.resize(columns);
-  b.kind.resize(columns * columns);
+  b.kind.resize(columns * columns + kKindSlack);
   b.grey.resize(columns * columns);  // read only where written: counted samples within reach of the disc
 
   // Each row's kinds, and the grey of the rows and columns near the disc.
