@@ -6,6 +6,7 @@
 #include "risas/encoding.hpp"
 #include "risas/neighbourhood.hpp"
 #include "risas/orientation.hpp"
+#include "risas/orientation_histogram.hpp"
 #include "risas/ranking.hpp"
 
 #include <gtest/gtest.h>
@@ -629,27 +630,34 @@ TEST(Orientation, GradientOrientationPointsUpTheRampAndIgnoresTheSilhouette) {
 // The kernel (kernels/gradient_orientation.cpp) against the readable rule
 // (cv::setUseOptimized(false)): keypoints of the demo scene, on texture,
 // curved surfaces and silhouettes, at several radii (whole and fractional
-// pyramid levels), one by the image's edge.
+// pyramid levels), one by the image's edge. At the default disc and at the
+// widest the kernel takes, whose grid rows of 63 samples fill its 64-bit
+// words of sample kinds to their last bits.
 TEST(Orientation, GradientOrientationKernelEqualsTheReadableRule) {
   const DemoKeypoints demo(40);
   const FrameGeometry& g = demo.geometry;
   std::vector<cv::KeyPoint> keypoints = demo.keypoints;
   keypoints.emplace_back(cv::Point2f(3.0f, 200.0f), 7.0f);
-  DescriptorParams params;
-  params.gradient_orientation = true;
-  const GreyPyramid grey = demo.pyramid(params);
-  int compared = 0, voted = 0;
-  for (size_t i = 0; i < keypoints.size(); ++i) {
-    const auto nb = demo.neighbourhood(keypoints[i], params);
-    if (!nb) continue;
-    const float radius = 7.0f + 1.3f * static_cast<float>(i);
-    const auto [fast, readable] = onBothPaths([&] { return gradientOrientation(grey, g, *nb, radius, params); });
-    EXPECT_NEAR(std::remainder(fast - readable, 2.0 * CV_PI), 0.0, 1e-5) << "keypoint " << i << ", radius " << radius;
-    ++compared;
-    voted += readable != 0.0;
+  constexpr int kWidestDisc = (63 - 1) / 2 - 1 - kBlurReach;  // a grid row: 2 (radius + 1 + kBlurReach) + 1 samples
+  for (const int patch_radius : {DescriptorParams().patch_radius, kWidestDisc}) {
+    SCOPED_TRACE(testing::Message() << "patch_radius " << patch_radius);
+    DescriptorParams params;
+    params.gradient_orientation = true;
+    params.patch_radius = patch_radius;
+    const GreyPyramid grey = demo.pyramid(params);
+    int compared = 0, voted = 0;
+    for (size_t i = 0; i < keypoints.size(); ++i) {
+      const auto nb = demo.neighbourhood(keypoints[i], params);
+      if (!nb) continue;
+      const float radius = 7.0f + 1.3f * static_cast<float>(i);
+      const auto [fast, readable] = onBothPaths([&] { return gradientOrientation(grey, g, *nb, radius, params); });
+      EXPECT_NEAR(std::remainder(fast - readable, 2.0 * CV_PI), 0.0, 1e-5) << "keypoint " << i << ", radius " << radius;
+      ++compared;
+      voted += readable != 0.0;
+    }
+    EXPECT_GE(compared, 35);
+    EXPECT_GE(voted, 30);
   }
-  EXPECT_GE(compared, 35);
-  EXPECT_GE(voted, 30);
 }
 
 }  // namespace
