@@ -631,8 +631,8 @@ TEST(Orientation, GradientOrientationPointsUpTheRampAndIgnoresTheSilhouette) {
 // (cv::setUseOptimized(false)): keypoints of the demo scene, on texture,
 // curved surfaces and silhouettes, at several radii (whole and fractional
 // pyramid levels), one by the image's edge. At the default disc and at the
-// widest the kernel takes, whose grid rows of 63 samples fill its 64-bit
-// words of sample kinds to their last bits.
+// widest the kernel takes, whose grid rows of 63 samples fill 63 of the 64
+// bits of its words of sample kinds.
 TEST(Orientation, GradientOrientationKernelEqualsTheReadableRule) {
   const DemoKeypoints demo(40);
   const FrameGeometry& g = demo.geometry;
