@@ -129,6 +129,21 @@ TEST(BadInput, DescriptorSizeIsBounded) {
   EXPECT_INPUT_ERROR(params.validate(), "exceeds 2048");
   params.n_ring = 1, params.n_pie = 8, params.n_bin = 32, params.n_vec = 7;  // 2048
   EXPECT_NO_THROW(params.validate());
+  params.shape_weight = 1.0;  // 8 x (32 + 8): the shape labels' own histogram is smaller
+  EXPECT_EQ(params.dimension(), 320);
+  EXPECT_NO_THROW(params.validate());
+  params.n_pie = 64, params.n_bin = 256;  // 64 x (256 + 8)
+  EXPECT_INPUT_ERROR(params.validate(), "n_ring * n_pie * (n_bin + n_vec + 1) = 16896 exceeds 2048");
+}
+
+TEST(BadInput, ShapeWeightNeedsShapeLabels) {
+  DescriptorParams params;  // n_vec 0
+  params.shape_weight = 0.5;
+  EXPECT_INPUT_ERROR(params.validate(), "shape_weight > 0 needs descriptor.n_vec >= 1");
+  params.n_vec = 1;
+  EXPECT_NO_THROW(params.validate());
+  params.shape_weight = -0.5;
+  EXPECT_INPUT_ERROR(params.validate(), "shape_weight");
 }
 
 }  // namespace

@@ -360,19 +360,22 @@ TEST(Descriptor, EncodingIsThePapersHistogramOnEveryPath) {
   // (texture and curved, tilted surfaces), at several angles and radii (so
   // at whole and fractional pyramid levels), one reaching past the image's
   // edge; one vote or soft binning, the frame's grey image or the pyramid,
-  // with and without the shape labels.
+  // without the shape labels, with them in the joint histogram (the
+  // paper's) and in a histogram of their own (shape_weight).
   const DemoKeypoints demo(20);
   const FrameGeometry& g = demo.geometry;
   std::vector<cv::KeyPoint> keypoints = demo.keypoints;
   keypoints.emplace_back(cv::Point2f(4.0f, 240.0f), 7.0f);  // the disc crosses the left edge
   keypoints.emplace_back(cv::Point2f(637.0f, 478.0f), 7.0f);  // past the coarse levels' last pixel
-  for (const int n_vec : {0, 2}) {  // no shape labels, the paper's
+  for (const auto& [n_vec, shape_weight] : {std::pair{0, 0.0}, std::pair{2, 0.0}, std::pair{2, 0.5}}) {
   for (const bool soft_binning : {false, true}) {
     for (const double sample_blur : {0.0, 0.5, 1.5}) {
       SCOPED_TRACE(std::string(soft_binning ? "soft binning" : "one vote per sample") + ", sample_blur " +
-                   std::to_string(sample_blur) + ", n_vec " + std::to_string(n_vec));
+                   std::to_string(sample_blur) + ", n_vec " + std::to_string(n_vec) + ", shape_weight " +
+                   std::to_string(shape_weight));
       DescriptorParams params;
       params.n_vec = n_vec;
+      params.shape_weight = shape_weight;
       params.soft_binning = soft_binning;
       params.sample_blur = sample_blur;
       const PatchEncoder encoder(params);
@@ -401,6 +404,60 @@ TEST(Descriptor, EncodingIsThePapersHistogramOnEveryPath) {
       }
     }
   }
+  }
+}
+
+// shape_weight's two histograms are the joint histogram's two marginals:
+// summed over the shape labels, eq. 8's histogram is the intensity part;
+// summed over the intensity groups (a sample's votes there add to one, soft
+// binning or not), the shape part. Each part keeps its share of the unit
+// length: 1 and shape_weight, over sqrt(1 + shape_weight^2).
+TEST(Descriptor, OwnShapeHistogramIsTheJointHistogramsMarginal) {
+  const DemoKeypoints demo(20);
+  for (const bool soft_binning : {false, true}) {
+    SCOPED_TRACE(soft_binning ? "soft binning" : "one vote per sample");
+    DescriptorParams joint;
+    joint.n_vec = 2;
+    joint.soft_binning = soft_binning;
+    DescriptorParams own = joint;
+    own.shape_weight = 0.5;
+    const int sectors = joint.n_ring * joint.n_pie, groups = joint.n_bin, shapes = joint.n_vec + 1;
+    ASSERT_EQ(own.dimension(), sectors * (groups + shapes));
+    const GreyPyramid grey = demo.pyramid(joint);
+    int compared = 0;
+    for (size_t i = 0; i < demo.keypoints.size(); ++i) {
+      const auto nb = demo.neighbourhood(demo.keypoints[i], joint);
+      if (!nb) continue;
+      std::vector<float> j(static_cast<size_t>(joint.dimension())), o(static_cast<size_t>(own.dimension()));
+      const double theta = 0.37 * static_cast<double>(i);
+      ASSERT_EQ(PatchEncoder(joint).encode(grey, demo.geometry, *nb, 12.0f, theta, j.data()),
+                PatchEncoder(own).encode(grey, demo.geometry, *nb, 12.0f, theta, o.data()));
+      if (cv::norm(j) == 0.0) continue;  // not described
+      ++compared;
+      std::vector<float> over_shapes(static_cast<size_t>(sectors * groups), 0.0f);
+      std::vector<float> over_groups(static_cast<size_t>(sectors * shapes), 0.0f);
+      for (int sector = 0; sector < sectors; ++sector) {
+        for (int group = 0; group < groups; ++group) {
+          for (int shape = 0; shape < shapes; ++shape) {
+            const float bin = j[static_cast<size_t>((sector * groups + group) * shapes + shape)];
+            over_shapes[static_cast<size_t>(sector * groups + group)] += bin;
+            over_groups[static_cast<size_t>(sector * shapes + shape)] += bin;
+          }
+        }
+      }
+      const auto shape_begin = o.begin() + sectors * groups;
+      const std::vector<float> intensity(o.begin(), shape_begin), shape(shape_begin, o.end());
+      const double length = std::sqrt(1.0 + 0.5 * 0.5);
+      EXPECT_NEAR(cv::norm(intensity), 1.0 / length, 1e-6) << i;
+      EXPECT_NEAR(cv::norm(shape), 0.5 / length, 1e-6) << i;
+      const auto unit = [](std::vector<float> v) {
+        cv::normalize(v, v);
+        return v;
+      };
+      EXPECT_LT(cv::norm(unit(intensity), unit(over_shapes), cv::NORM_INF), 1e-6) << i;
+      EXPECT_LT(cv::norm(unit(shape), unit(over_groups), cv::NORM_INF), 1e-6) << i;
+    }
+    EXPECT_GE(compared, 12);
   }
 }
 

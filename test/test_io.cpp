@@ -384,8 +384,21 @@ TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {
     writeFeatures(dir.file("known.yml"), f);
     EXPECT_EQ(readFeatures(dir.file("known.yml")).descriptor_layout, layout);
   }
+  // The shape labels' own histogram (shape_weight): 2 x 8 x (2 + 1 + 1) = 64 too.
+  DescriptorParams own_shape;
+  own_shape.n_bin = 2, own_shape.n_vec = 1, own_shape.shape_weight = 0.25;
+  ASSERT_EQ(own_shape.dimension(), 64);
+  f.descriptor_layout = own_shape.layout();
+  EXPECT_EQ(f.descriptor_layout, "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=0.25");
+  writeFeatures(dir.file("own_shape.yml"), f);
+  EXPECT_EQ(readFeatures(dir.file("own_shape.yml")).descriptor_layout, f.descriptor_layout);
   for (const char* wrong : {"n_ring=1 n_pie=8 n_bin=8 n_vec=2", "n_ring=2 n_pie=8 n_bin=4", "rings: 2",
-                            "n_ring=0 n_pie=8 n_bin=8 n_vec=0", "n_ring=99999999999 n_pie=8 n_bin=4 n_vec=0"}) {
+                            "n_ring=0 n_pie=8 n_bin=8 n_vec=0", "n_ring=99999999999 n_pie=8 n_bin=4 n_vec=0",
+                            "n_ring=2 n_pie=8 n_bin=4 n_vec=0 shape_weight=1",  // 2 x 8 x (4 + 1) = 80; no labels
+                            "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=0",
+                            "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=inf",
+                            "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=0.25x",
+                            "n_ring=2 n_pie=8 n_bin=2 n_vec=1shape_weight=0.25"}) {
     f.descriptor_layout = wrong;
     writeFeatures(dir.file("wrong.yml"), f);
     EXPECT_THROW(readFeatures(dir.file("wrong.yml")), InputError) << wrong;

@@ -90,8 +90,9 @@ struct DescriptorParams {
   double gamma = 0.8;
   // Spatial sectors, intensity-rank groups and normal groups: the descriptor
   // has n_ring * n_pie * n_bin * (n_vec + 1) dimensions (2, 8, 4, 0 -> 64;
-  // the paper's 1, 8, 8, 2 -> 192). n_vec 0: no shape labels, every sample
-  // one label and rho_threshold unused. The default: the shape labels, on
+  // the paper's 1, 8, 8, 2 -> 192; shape_weight gives another layout).
+  // n_vec 0: no shape labels, every sample one label and rho_threshold
+  // unused. The default: the shape labels, on
   // Kinect normals, differ between views of the same point and cost
   // matches on every set measured (docs/evaluation.md, "The shape labels").
   // n_bin 4, not the paper's 8: on a Kinect patch the order of close grey
@@ -102,6 +103,17 @@ struct DescriptorParams {
   int n_pie = 8;
   int n_bin = 4;
   int n_vec = 0;
+  // How the shape labels enter the histogram (with n_vec >= 1). 0: eq. 8's
+  // joint histogram, each (sector, intensity group) bin split by shape label.
+  // > 0: a histogram of their own per spatial sector, n_ring * n_pie *
+  // (n_vec + 1) bins after the intensity histogram's n_ring * n_pie * n_bin;
+  // each part is L2-normalised, the shape part weighted by shape_weight, then
+  // the whole normalised. A label that differs between views then moves one
+  // vote of the shape part instead of a sample's whole intensity vote. Off
+  // by default: it trades a few correct matches on textured recordings for
+  // the texture-poor ones' (docs/evaluation.md, "The shape labels as a
+  // histogram of their own").
+  double shape_weight = 0.0;
   // Rings of equal area the disc is cut into, each of n_pie sectors: the
   // spatial label is (ring, sector) and the descriptor n_ring times longer.
   // 1: the paper's sectors only.
@@ -164,8 +176,13 @@ struct DescriptorParams {
   // a patch's few thousand samples leave nearly every bin empty, and one
   // frame's descriptors would run to hundreds of megabytes.
   static constexpr int kMaxDimension = 2048;
-  int dimension() const { return n_ring * n_pie * n_bin * (n_vec + 1); }
-  // What the descriptor's columns count, "n_ring=2 n_pie=8 n_bin=4 n_vec=0":
+  // Whether the shape labels have a histogram of their own (shape_weight).
+  bool ownShapeHistogram() const { return shape_weight > 0.0; }
+  int dimension() const {
+    return n_ring * n_pie * (ownShapeHistogram() ? n_bin + n_vec + 1 : n_bin * (n_vec + 1));
+  }
+  // What the descriptor's columns count, "n_ring=2 n_pie=8 n_bin=4 n_vec=0",
+  // and " shape_weight=W" after it with a shape histogram of its own:
   // descriptors compare only with descriptors of the same layout, and two
   // layouts can share a dimension (2 x 8 x 4 and 1 x 8 x 8 are both 64).
   std::string layout() const;

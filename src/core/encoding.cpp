@@ -161,14 +161,22 @@ bool PatchEncoder::encode(const GreyPyramid& grey, const FrameGeometry& geometry
     rankPositionTable(grey_count.data(), 256, params_.n_bin, lower_group, upper_group_weight);
   }
 
+  // The joint histogram (eq. 8): bins (sector, intensity group, shape
+  // label). With a shape histogram of its own (shape_weight), the intensity
+  // bins take no shape label, and the shape histogram's bins (sector, shape
+  // label) follow them.
+  const bool own_shape = params_.ownShapeHistogram();
+  const int n_shape = params_.n_vec + 1, joint_shapes = own_shape ? 1 : n_shape;
+  const int intensity_bins = params_.n_ring * params_.n_pie * params_.n_bin * joint_shapes;
   std::vector<float> histogram(static_cast<size_t>(dimension()), 0.0f);
-  const int n_shape = params_.n_vec + 1;
   const auto vote = [&](int sector, int group, int shape_label, float weight) {
-    histogram[static_cast<size_t>((sector * params_.n_bin + group) * n_shape + shape_label)] += weight;
+    const int joint_label = own_shape ? 0 : shape_label;
+    histogram[static_cast<size_t>((sector * params_.n_bin + group) * joint_shapes + joint_label)] += weight;
   };
   size_t ranked = 0;
   for (size_t c = 0; c < counted.size(); ++c) {
     const int shape_label = counted[c].shape == kFlat ? params_.n_vec : shape_rank[ranked++];
+    if (own_shape) histogram[static_cast<size_t>(intensity_bins + counted[c].sector * n_shape + shape_label)] += 1.0f;
     if (!params_.soft_binning) {
       vote(counted[c].sector, intensity_label[c], shape_label, 1.0f);
       continue;
@@ -176,6 +184,14 @@ bool PatchEncoder::encode(const GreyPyramid& grey, const FrameGeometry& geometry
     const int g = counted[c].grey, lower = lower_group[g], upper = std::min(lower + 1, params_.n_bin - 1);
     vote(counted[c].sector, lower, shape_label, 1.0f - upper_group_weight[g]);
     vote(counted[c].sector, upper, shape_label, upper_group_weight[g]);
+  }
+  if (own_shape) {  // each part to unit length, the shape part then to shape_weight
+    const auto scale_to = [&](int begin, int end, double length) {
+      cv::Mat part(1, end - begin, CV_32F, histogram.data() + begin);  // a header on the histogram's bins
+      part *= length / cv::norm(part);
+    };
+    scale_to(0, intensity_bins, 1.0);
+    scale_to(intensity_bins, dimension(), params_.shape_weight);
   }
   const double norm = cv::norm(histogram);
   for (int i = 0; i < dimension(); ++i) out[i] = static_cast<float>(histogram[static_cast<size_t>(i)] / norm);

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -91,8 +92,17 @@ int64_t layoutDimension(const std::string& layout) {
   int ring = 0, pie = 0, bin = 0, vec = 0, end = 0;
   const int read =
       std::sscanf(layout.c_str(), "n_ring=%4d n_pie=%4d n_bin=%4d n_vec=%4d%n", &ring, &pie, &bin, &vec, &end);
-  if (read != 4 || end != static_cast<int>(layout.size()) || ring < 1 || pie < 1 || bin < 1 || vec < 0) return -1;
-  return int64_t{ring} * pie * bin * (vec + 1);
+  if (read != 4 || ring < 1 || pie < 1 || bin < 1 || vec < 0) return -1;
+  if (end == static_cast<int>(layout.size())) return int64_t{ring} * pie * bin * (vec + 1);
+  // The shape labels' own histogram (DescriptorParams::shape_weight); the
+  // weight read whatever the C locale's decimal point.
+  const std::string weighted = " shape_weight=";
+  if (layout.compare(static_cast<size_t>(end), weighted.size(), weighted) != 0) return -1;
+  const char* last = layout.data() + layout.size();
+  double weight = 0.0;
+  const auto [stop, error] = std::from_chars(layout.data() + end + weighted.size(), last, weight);
+  if (error != std::errc() || stop != last || !(weight > 0.0) || !std::isfinite(weight) || vec < 1) return -1;
+  return int64_t{ring} * pie * (bin + vec + 1);
 }
 
 // How many numbers an element of a FileStorage dt holds: "f" 1, "3f" 3,

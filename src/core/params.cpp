@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <locale>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -181,8 +182,11 @@ void DetectorParams::write(cv::FileStorage& fs) const { writeFields(*this, fs, "
 void DetectorParams::read(const cv::FileNode& node) { readFields(*this, node, "detector"); }
 
 std::string DescriptorParams::layout() const {
-  return "n_ring=" + std::to_string(n_ring) + " n_pie=" + std::to_string(n_pie) + " n_bin=" + std::to_string(n_bin) +
-         " n_vec=" + std::to_string(n_vec);
+  std::ostringstream out;
+  out.imbue(std::locale::classic());  // a decimal point whatever the global locale
+  out << "n_ring=" << n_ring << " n_pie=" << n_pie << " n_bin=" << n_bin << " n_vec=" << n_vec;
+  if (ownShapeHistogram()) out << " shape_weight=" << shape_weight;  // six significant digits, as %g
+  return out.str();
 }
 
 void DescriptorParams::validate() const {
@@ -190,10 +194,14 @@ void DescriptorParams::validate() const {
   if (min_radius_px > max_radius_px) {
     throw InputError("descriptor.min_radius_px exceeds descriptor.max_radius_px");
   }
+  if (ownShapeHistogram() && n_vec < 1) {
+    throw InputError("descriptor.shape_weight > 0 needs descriptor.n_vec >= 1: it weighs the shape labels' histogram");
+  }
   if (dimension() > kMaxDimension) {
-    throw InputError("descriptor size n_ring * n_pie * n_bin * (n_vec + 1) = " + std::to_string(dimension()) + " exceeds " +
-                     std::to_string(kMaxDimension) + " (" + std::to_string(n_ring) + " * " + std::to_string(n_pie) + " * " + std::to_string(n_bin) +
-                     " * " + std::to_string(n_vec + 1) + "): a patch of " + std::to_string(patch_radius) +
+    const std::string formula =
+        ownShapeHistogram() ? "n_ring * n_pie * (n_bin + n_vec + 1)" : "n_ring * n_pie * n_bin * (n_vec + 1)";
+    throw InputError("descriptor size " + formula + " = " + std::to_string(dimension()) + " exceeds " +
+                     std::to_string(kMaxDimension) + " (" + layout() + "): a patch of " + std::to_string(patch_radius) +
                      " samples per radius cannot fill so many bins");
   }
 }

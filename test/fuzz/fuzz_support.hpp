@@ -125,6 +125,7 @@ inline risas::RisasParams params(Bytes& in) {
   p.descriptor.n_bin = in.in(1, 16);
   p.descriptor.n_vec = in.in(0, 8);
   p.descriptor.n_ring = in.in(1, 3);
+  p.descriptor.shape_weight = p.descriptor.n_vec > 0 && in.byte() % 2 ? in.number(0.01, 2.0) : 0.0;
   p.descriptor.rho_threshold = in.number(0.0, 1.0);
   p.descriptor.support_radius = in.number(0.0, 0.2);
   p.descriptor.shape_orientation = in.byte() % 2;

@@ -518,9 +518,9 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
   EXPECT_EQ(detector, (std::vector<std::string>{"tau", "response_threshold", "nms_radius", "max_keypoints",
                                                 "min_keypoints", "grid_cols", "grid_rows", "gray_sigma", "dp_sigma",
                                                 "window_sigma"}));
-  EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "rho_threshold",
-                                                  "support_radius", "gradient_orientation", "soft_binning",
-                                                  "sample_blur"}));
+  EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "shape_weight",
+                                                  "rho_threshold", "support_radius", "gradient_orientation",
+                                                  "soft_binning", "sample_blur"}));
   EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
 }
 

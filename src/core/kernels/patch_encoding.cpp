@@ -293,6 +293,25 @@ void softHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sec
   }
 }
 
+// The shape labels' own histogram (DescriptorParams::shape_weight): each
+// counted sample one vote in its (sector, shape label) bin. Into out, bins
+// floats, not normalised.
+void shapeHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sector, const uint8_t* shape_label,
+                    int n_shape, float* out, int bins) {
+  std::fill(out, out + bins, 0.0f);
+  for (int s = 0; s < n; ++s) {
+    out[sector[static_cast<size_t>(s)] * n_shape + shape_label[d.rho_level[s]]] += static_cast<float>(d.counts[s]);
+  }
+}
+
+// values[0 .. count) scaled to L2 length `length`.
+void scaleToLength(float* values, int count, float length) {
+  float norm = 0.0f;
+  for (int i = 0; i < count; ++i) norm += values[i] * values[i];
+  const float scale = length / std::sqrt(norm);
+  for (int i = 0; i < count; ++i) values[i] *= scale;
+}
+
 }  // namespace
 
 bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometry& geometry, const Neighbourhood& nb,
@@ -336,16 +355,25 @@ bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometr
   if (params.n_vec > 0) rankGroupTable(rho_count, kRhoLevels, params.n_vec, shape_label);
   shape_label[kRhoLevels] = static_cast<uint8_t>(params.n_vec);
 
-  const int n_shape = params.n_vec + 1;
+  // With a shape histogram of its own (shape_weight) the intensity
+  // histogram's samples all take shape label 0, and the shape histogram
+  // follows it.
+  const bool own_shape = params.ownShapeHistogram();
+  const int n_shape = params.n_vec + 1, joint_shapes = own_shape ? 1 : n_shape;
+  const int intensity_bins = own_shape ? dimension - params.n_ring * params.n_pie * n_shape : dimension;
+  static constexpr uint8_t kNoLabel[kRhoLevels + 1] = {};
+  const uint8_t* joint_label = own_shape ? kNoLabel : shape_label;
   if (params.soft_binning) {
-    softHistogram(d, n, disc.sector, intensity_count, shape_label, params.n_bin, n_shape, dimension, out);
+    softHistogram(d, n, disc.sector, intensity_count, joint_label, params.n_bin, joint_shapes, intensity_bins, out);
   } else {
-    countHistogram(d, n, disc.sector, intensity_count, shape_label, params.n_bin, n_shape, dimension, out);
+    countHistogram(d, n, disc.sector, intensity_count, joint_label, params.n_bin, joint_shapes, intensity_bins, out);
   }
-  float norm = 0.0f;
-  for (int d = 0; d < dimension; ++d) norm += out[d] * out[d];
-  const float inv = 1.0f / std::sqrt(norm);
-  for (int d = 0; d < dimension; ++d) out[d] *= inv;
+  if (own_shape) {
+    shapeHistogram(d, n, disc.sector, shape_label, n_shape, out + intensity_bins, dimension - intensity_bins);
+    scaleToLength(out, intensity_bins, 1.0f);
+    scaleToLength(out + intensity_bins, dimension - intensity_bins, static_cast<float>(params.shape_weight));
+  }
+  scaleToLength(out, dimension, 1.0f);
   return true;
 }
 

@@ -42,6 +42,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("n_bin", p.n_bin, 1, 256);
   v("n_vec", p.n_vec, 0, 64);
   v("n_ring", p.n_ring, 1, 8);
+  v("shape_weight", p.shape_weight, 0.0, 100.0);
   v("soft_binning", p.soft_binning);
   v("sample_blur", p.sample_blur, 0.0, 4.0);
   v("rho_threshold", p.rho_threshold, 0.0, 1.0);
