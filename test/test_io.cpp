@@ -394,7 +394,8 @@ TEST(FeaturesFile, RecordsTheDescriptorsLayoutAndChecksItAgainstTheirWidth) {
   EXPECT_EQ(readFeatures(dir.file("own_shape.yml")).descriptor_layout, f.descriptor_layout);
   for (const char* wrong : {"n_ring=1 n_pie=8 n_bin=8 n_vec=2", "n_ring=2 n_pie=8 n_bin=4", "rings: 2",
                             "n_ring=0 n_pie=8 n_bin=8 n_vec=0", "n_ring=99999999999 n_pie=8 n_bin=4 n_vec=0",
-                            "n_ring=2 n_pie=8 n_bin=4 n_vec=0 shape_weight=1",  // 2 x 8 x (4 + 1) = 80; no labels
+                            // each 64 columns if it were read: only the layout's own rules reject them
+                            "n_ring=2 n_pie=8 n_bin=3 n_vec=0 shape_weight=1",  // no labels to weigh
                             "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=0",
                             "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=inf",
                             "n_ring=2 n_pie=8 n_bin=2 n_vec=1 shape_weight=0.25x",
