@@ -447,9 +447,9 @@ TEST(Descriptor, OwnShapeHistogramIsTheJointHistogramsMarginal) {
       }
       const auto shape_begin = o.begin() + sectors * groups;
       const std::vector<float> intensity(o.begin(), shape_begin), shape(shape_begin, o.end());
-      const double length = std::sqrt(1.0 + 0.5 * 0.5);
+      const double length = std::sqrt(1.0 + own.shape_weight * own.shape_weight);
       EXPECT_NEAR(cv::norm(intensity), 1.0 / length, 1e-6) << i;
-      EXPECT_NEAR(cv::norm(shape), 0.5 / length, 1e-6) << i;
+      EXPECT_NEAR(cv::norm(shape), own.shape_weight / length, 1e-6) << i;
       const auto unit = [](std::vector<float> v) {
         cv::normalize(v, v);
         return v;
