@@ -201,6 +201,12 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   const size_t highest = three.output.find(" to ", over);
   ASSERT_NE(highest, std::string::npos) << three.output;
   EXPECT_LT(std::stod(three.output.substr(highest + 4)), 0.01) << three.output;
+  const size_t median = three.output.find(" m, median ", over);  // beside the mean, within the range
+  const size_t lowest = three.output.find(" m, from ", over);
+  ASSERT_TRUE(median != std::string::npos && lowest != std::string::npos && median < lowest) << three.output;
+  const double middle = std::stod(three.output.substr(median + 11));
+  EXPECT_LE(std::stod(three.output.substr(lowest + 9)), middle) << three.output;
+  EXPECT_LE(middle, std::stod(three.output.substr(highest + 4))) << three.output;
   const ToolRun none = run(common + " --out " + file("none.txt") + " --ransac-seeds 0");
   EXPECT_EQ(none.exit_code, 2) << none.output;
   EXPECT_NE(none.output.find("--ransac-seeds must be a whole number in [1, 1000], got '0'"), std::string::npos)

@@ -180,6 +180,15 @@ TEST_F(Tum, TrajectoriesRoundTripAndTheirErrorIsTheBenchmarks) {
   EXPECT_NE(errorOf([&] { readTumTrajectory(dir() + "/bad.txt"); }).find("bad.txt line 1"), std::string::npos);
 }
 
+// The median of an odd count is its middle value, of an even count the mean
+// of the two middle ones; the order of the values does not matter.
+TEST(Median, IsTheMiddleValueOrTheMeanOfTheTwoMiddleOnes) {
+  EXPECT_DOUBLE_EQ(eval::median({0.05, 0.01, 0.03}), 0.03);
+  EXPECT_DOUBLE_EQ(eval::median({0.04, 0.01, 0.5, 0.02}), 0.03);  // an outlier moves the mean, not the median
+  EXPECT_DOUBLE_EQ(eval::median({7.0}), 7.0);
+  EXPECT_THROW(eval::median({}), InputError);
+}
+
 // An estimate whose errors are drawn from the covariances it reports, in
 // its own world (the first camera), the truth in another: the ratios are 1.
 // The same estimate claiming a quarter of the variance is overconfident by 4.

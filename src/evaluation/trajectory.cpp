@@ -7,8 +7,17 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace risas::eval {
+
+double median(std::vector<double> values) {
+  if (values.empty()) throw InputError("the median of no values");
+  std::sort(values.begin(), values.end());
+  const size_t half = values.size() / 2;
+  return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+}
 
 AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,
                                double max_difference) {
@@ -47,8 +56,7 @@ TrajectoryError trajectoryError(const AssociatedTrajectory& trajectory, int delt
   }
   e.ate_rmse = std::sqrt(sq / static_cast<double>(n));
   e.ate_max = *std::max_element(d.begin(), d.end());
-  std::sort(d.begin(), d.end());
-  e.ate_median = n % 2 ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
+  e.ate_median = median(std::move(d));
 
   double t_sq = 0.0, r_sq = 0.0;
   for (size_t i = 0; i + static_cast<size_t>(delta) < n; ++i) {

@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
         "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
         "frame-to-frame motion's (a twist's) with the truth's motion.\n"
         "With --ransac-seeds N the same features are tracked N times, RANSAC seeded motion.seed + k:\n"
-        "the trajectory written is the first seed's, and the ATE's mean and range over the N follow.\n"
+        "the trajectory written is the first seed's, and the ATE's mean, median and range over the N follow.\n"
         "Plot it with scripts/plot_trajectory.py GT.txt T.txt [...] --out P.png.",
         options);
     cv::setNumThreads(1);
@@ -218,10 +218,11 @@ int main(int argc, char** argv) {
     if (!ates.empty() && seeds > 1) {
       // One seed is one draw: where inliers are few, which keyframe poses
       // RANSAC finds is luck, and the chain carries it (docs/odometry.md).
+      // The median beside the mean: one unlucky seed moves the mean alone.
       const auto [lowest, highest] = std::minmax_element(ates.begin(), ates.end());
       std::cout << std::fixed << std::setprecision(4) << "ATE RMSE over " << seeds << " RANSAC seeds: mean "
-                << std::accumulate(ates.begin(), ates.end(), 0.0) / seeds << " m, from " << *lowest << " to "
-                << *highest << " m\n";
+                << std::accumulate(ates.begin(), ates.end(), 0.0) / seeds << " m, median " << risas::eval::median(ates)
+                << " m, from " << *lowest << " to " << *highest << " m\n";
     }
     return 0;
   });
