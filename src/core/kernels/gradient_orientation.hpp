@@ -1,7 +1,8 @@
 // The fast kernel of gradientOrientation (orientation.hpp, orientation.cpp):
 // the same grid, the same votes and the same histogram (its sums taken in
-// another order), read through raw pointers, with each grid column's and row's place in the image and on the
-// pyramid's levels found once. Held equal to the readable function by
+// another order), read through raw pointers, with each grid column's and
+// row's place in the image and on the pyramid's levels found once. Held
+// equal to the readable function by
 // Orientation.GradientOrientationKernelEqualsTheReadableRule.
 #pragma once
 
