@@ -108,6 +108,11 @@ TEST(Protocol, KeypointDepthIsTheMedianOfTheValid3x3) {
   const Intrinsics K(100, 100, 2, 2);
   EXPECT_FLOAT_EQ(keypointPoint(depth, K, {2.0f, 2.0f}).z, 2.0f);
   EXPECT_TRUE(std::isnan(keypointPoint(cv::Mat(5, 5, CV_32F, cv::Scalar(std::nanf(""))), K, {2.0f, 2.0f}).z));
+  // Two valid depths either side of a jump: the farther one as measured,
+  // not their mean, a point in mid-air.
+  depth.at<float>(2, 2) = depth.at<float>(3, 3) = std::nanf("");
+  depth.at<float>(2, 3) = 3.0f;
+  EXPECT_FLOAT_EQ(keypointPoint(depth, K, {2.0f, 2.0f}).z, 3.0f);
 }
 
 TEST(Protocol, UnrotatingAnOnScreenCounterClockwiseTurn) {

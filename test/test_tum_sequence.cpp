@@ -185,6 +185,7 @@ TEST_F(Tum, TrajectoriesRoundTripAndTheirErrorIsTheBenchmarks) {
 TEST(Median, IsTheMiddleValueOrTheMeanOfTheTwoMiddleOnes) {
   EXPECT_DOUBLE_EQ(eval::median({0.05, 0.01, 0.03}), 0.03);
   EXPECT_DOUBLE_EQ(eval::median({0.04, 0.01, 0.5, 0.02}), 0.03);  // an outlier moves the mean, not the median
+  EXPECT_DOUBLE_EQ(eval::median({6.0, 1.0, 5.0, 2.0, 4.0, 3.0}), 3.5);  // unsorted, the middle two apart
   EXPECT_DOUBLE_EQ(eval::median({7.0}), 7.0);
   EXPECT_THROW(eval::median({}), InputError);
 }

@@ -1,9 +1,12 @@
 #include "risas/evaluation/pose_recovery.hpp"
 
+#include "risas/evaluation/trajectory.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace risas::eval {
 
@@ -17,13 +20,7 @@ PoseError poseError(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& 
     const Eigen::Vector3d v(p.x, p.y, p.z);
     distances.push_back((estimate * v - truth * v).norm());
   }
-  if (distances.empty()) return e;
-  const size_t mid = distances.size() / 2;
-  std::nth_element(distances.begin(), distances.begin() + static_cast<long>(mid), distances.end());
-  e.alignment_m = distances[mid];
-  if (distances.size() % 2 == 0) {  // the mean of the middle two
-    e.alignment_m = 0.5 * (e.alignment_m + *std::max_element(distances.begin(), distances.begin() + static_cast<long>(mid)));
-  }
+  if (!distances.empty()) e.alignment_m = median(std::move(distances));
   return e;
 }
 

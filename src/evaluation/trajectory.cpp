@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <utility>
@@ -14,9 +15,11 @@ namespace risas::eval {
 
 double median(std::vector<double> values) {
   if (values.empty()) throw InputError("the median of no values");
-  std::sort(values.begin(), values.end());
   const size_t half = values.size() / 2;
-  return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(half);
+  std::nth_element(values.begin(), middle, values.end());  // linear: the pose error's 19,200 points a seed
+  if (values.size() % 2) return *middle;
+  return 0.5 * (*std::max_element(values.begin(), middle) + *middle);  // the lower middle one precedes it
 }
 
 AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,

@@ -5,6 +5,7 @@
 #include "risas/descriptor.hpp"
 #include "risas/detector.hpp"
 #include "risas/errors.hpp"
+#include "risas/evaluation/trajectory.hpp"
 #include "risas/geometry.hpp"
 #include "risas/io.hpp"
 #include "risas/risas.hpp"
@@ -18,6 +19,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <utility>
 
 namespace {
 
@@ -65,8 +67,7 @@ double timeMs(int repeats, const std::function<void()>& work) {
     work();
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  return ms[ms.size() / 2];
+  return risas::eval::median(std::move(ms));
 }
 
 }  // namespace

@@ -64,7 +64,9 @@ std::vector<Pair> listTumPairs(const std::string& dir, const TumSequence& sequen
                                int stride = 1);
 
 // A keypoint's 3D point: the median of the valid depths in its 3x3
-// neighbourhood, back-projected; NaN when none is valid.
+// neighbourhood, back-projected; NaN when none is valid. Of an even count
+// the upper middle one, not the mean of the two: a depth measured there,
+// never a point between the two sides of a depth jump.
 cv::Point3f keypointPoint(const cv::Mat& depth_metres, const Intrinsics& K, const cv::Point2f& pixel);
 
 // Where a pixel of the rotated query lies in the unrotated frame.
