@@ -5,6 +5,7 @@
 
 #include "risas/errors.hpp"
 #include "risas/evaluation/protocol.hpp"
+#include "risas/evaluation/median.hpp"
 #include "risas/evaluation/trajectory.hpp"
 #include "risas/tum_sequence.hpp"
 

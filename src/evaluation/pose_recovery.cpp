@@ -1,6 +1,6 @@
 #include "risas/evaluation/pose_recovery.hpp"
 
-#include "risas/evaluation/trajectory.hpp"
+#include "risas/evaluation/median.hpp"
 
 #include <Eigen/Eigenvalues>
 

@@ -5,7 +5,7 @@
 #include "risas/descriptor.hpp"
 #include "risas/detector.hpp"
 #include "risas/errors.hpp"
-#include "risas/evaluation/trajectory.hpp"
+#include "risas/evaluation/median.hpp"
 #include "risas/geometry.hpp"
 #include "risas/io.hpp"
 #include "risas/risas.hpp"

@@ -4,6 +4,7 @@
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/evaluation/median.hpp"
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/protocol.hpp"
 #include "risas/evaluation/trajectory.hpp"

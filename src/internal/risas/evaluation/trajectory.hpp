@@ -36,10 +36,6 @@ struct TrajectoryError {
   Eigen::Isometry3d truth_T_estimate = Eigen::Isometry3d::Identity();  // the alignment
 };
 
-// The middle value of `values`, the mean of the two middle ones for an even
-// count; InputError when there are none.
-double median(std::vector<double> values);
-
 // ATE: the rigid motion (Horn/Umeyama, no scale) that best maps the
 // estimate's positions onto the truth's, then the RMSE (and mean, median,
 // max) of the remaining position differences. RPE: for each i, the
