@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Reproduces docs/odometry.md: risas::Odometry on RISAS and on ORB features
-# over the three TUM-layout recordings, ATE and RPE, and the plots. Usage:
+# over the three TUM-layout recordings, ATE and RPE, and the plots; then
+# the kitchen's table of "Where the keyframes fall" (a chain of keyframes
+# from each of several starting frames, at 30, 15 and 10 Hz). Usage:
 #   scripts/odometry.sh [TUM_ROOT] [OUT_DIR]
 # (defaults: ../shared/data/tum next to the repository, build/odometry).
-# About a minute on 2 cores.
+# About seven minutes on 2 cores, six of them the kitchen's chains.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
 source "$(dirname "$0")/env.sh"
@@ -14,17 +16,25 @@ out="${2:-$RISAS_ROOT/build/odometry}"
 mkdir -p "$RISAS_WS" "$out"
 risas_build > "$RISAS_WS/build.log" 2>&1 || { tail -30 "$RISAS_WS/build.log"; exit 1; }
 
+# The runs: RISAS at the defaults, RISAS with config/odometry.yaml
+# (RISAS_vo), ORB, and ORB's strongest keypoint within 3 px only
+# (ORB-distinct); 8 RANSAC seeds each.
+runs=(RISAS RISAS_vo ORB ORB-distinct)
+# track RUN FOLDER FX FY CX CY [risas_odometry options...]
+track() {
+  local run="$1" folder="$2" fx="$3" fy="$4" cx="$5" cy="$6"
+  shift 6
+  local params=()
+  [ "$run" = RISAS_vo ] && params=(--params "$RISAS_ROOT/config/odometry.yaml")
+  "$RISAS_BIN/risas_odometry" --tum "$folder" --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy" \
+    --features "${run%_vo}" "${params[@]}" --ransac-seeds 8 "$@"
+}
+
 # name folder intrinsics, as ../shared/data/tum/README.md gives them
 while read -r name folder fx fy cx cy; do
-  # RISAS at the defaults, RISAS with config/odometry.yaml (RISAS_vo), ORB,
-  # and ORB's strongest keypoint within 3 px only (ORB-distinct).
-  for run in RISAS RISAS_vo ORB ORB-distinct; do
+  for run in "${runs[@]}"; do
     echo "== $name, $run"
-    params=()
-    [ "$run" = RISAS_vo ] && params=(--params "$RISAS_ROOT/config/odometry.yaml")
-    "$RISAS_BIN/risas_odometry" --tum "$tum/$folder" --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy" \
-      --features "${run%_vo}" "${params[@]}" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv" \
-      --ransac-seeds 8
+    track "$run" "$tum/$folder" "$fx" "$fy" "$cx" "$cy" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv"
   done
   "$RISAS_ROOT/scripts/plot_trajectory.py" "$tum/$folder/groundtruth.txt" \
     "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \
@@ -35,3 +45,25 @@ fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3
 fr3_cabinet fr3_cabinet_keyframes 535.4 539.2 320.1 247.6
 7scenes_redkitchen 7scenes_redkitchen 585 585 320 240
 LIST
+
+# The kitchen's chains: every frame from frames 0, 7, 14, 21 and 28; every
+# second frame from 0 and 1; every third from 0, 1 and 2. A cell is the
+# mean over the chains of each chain's mean ATE, and the chains' range.
+table="$out/kitchen_chains.md"
+{
+  echo "| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
+  echo "|---|---|---|---|"
+} > "$table"
+for run in "${runs[@]}"; do
+  row="| $run |"
+  for chains in "1 0,7,14,21,28" "2 0,1" "3 0,1,2"; do
+    read -r step starts <<< "$chains"
+    echo "== 7scenes_redkitchen, $run, step $step, from frames $starts"
+    track "$run" "$tum/7scenes_redkitchen" 585 585 320 240 --step "$step" --start "$starts" \
+      --out "$out/kitchen_chains_${run}_step${step}.txt" | tee "$out/kitchen_chains_${run}_step${step}.log"
+    row+=" $(sed -nE 's/^ATE RMSE over .* chains .*: mean ([0-9.]+) m, from ([0-9.]+) to ([0-9.]+) m$/\1 m (\2–\3)/p' \
+      "$out/kitchen_chains_${run}_step${step}.log") |"
+  done
+  echo "$row" >> "$table"
+done
+cat "$table"

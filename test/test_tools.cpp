@@ -48,24 +48,31 @@ class Tools : public ::testing::Test {
   // The first `frames` rendered frames as a TUM RGB-D folder: depth in 5000
   // units a metre, and groundtruth.txt with frame 1 as the world.
   static fs::path tumFolder(int frames) {
-    const fs::path tum = dir / ("tum" + std::to_string(frames));
+    std::vector<int> rendered;
+    for (int k = 1; k <= frames; ++k) rendered.push_back(k);
+    return tumFolder("tum" + std::to_string(frames), rendered);
+  }
+  // The rendered frames `rendered` (1-based, in that order, a frame again
+  // where the camera comes back) as the TUM folder `name`, stamped 1, 2, ...
+  static fs::path tumFolder(const std::string& name, const std::vector<int>& rendered) {
+    const fs::path tum = dir / name;
     fs::create_directories(tum / "rgb");
     fs::create_directories(tum / "depth");
     std::ofstream rgb_list(tum / "rgb.txt"), depth_list(tum / "depth.txt"), truth(tum / "groundtruth.txt");
-    for (int k = 1; k <= frames; ++k) {
-      const std::string name = std::to_string(k) + ".png";
-      fs::copy_file(file("rgb_" + name), tum / "rgb" / name, fs::copy_options::overwrite_existing);
+    for (size_t i = 0; i < rendered.size(); ++i) {
+      const std::string k = std::to_string(rendered[i]), stamp = std::to_string(i + 1);
+      const std::string image = stamp + ".png";
+      fs::copy_file(file("rgb_" + k + ".png"), tum / "rgb" / image, fs::copy_options::overwrite_existing);
       cv::Mat depth;
-      cv::imread(file("depth_" + name), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
-      cv::imwrite((tum / "depth" / name).string(), depth);
-      rgb_list << k << ".0 rgb/" << name << "\n";
-      depth_list << k << ".001 depth/" << name << "\n";
-      const Eigen::Isometry3d pose =
-          readPoseFiles(file("R1-" + std::to_string(k) + ".txt"), file("T1-" + std::to_string(k) + ".txt"));
+      cv::imread(file("depth_" + k + ".png"), cv::IMREAD_UNCHANGED).convertTo(depth, CV_16U, 5.0);
+      cv::imwrite((tum / "depth" / image).string(), depth);
+      rgb_list << stamp << ".0 rgb/" << image << "\n";
+      depth_list << stamp << ".001 depth/" << image << "\n";
+      const Eigen::Isometry3d pose = readPoseFiles(file("R1-" + k + ".txt"), file("T1-" + k + ".txt"));
       const Eigen::Vector3d t = pose.translation();
       const Eigen::Quaterniond q(pose.linear());
-      truth << k << ".0 " << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z()
-            << " " << q.w() << "\n";
+      truth << stamp << ".0 " << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " "
+            << q.z() << " " << q.w() << "\n";
     }
     return tum;
   }
@@ -221,6 +228,111 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   }
   const ToolRun no_frames = run(common + " --out " + file("none.txt") + " --max-frames 0");
   EXPECT_EQ(no_frames.exit_code, 2) << no_frames.output;
+}
+
+// The first number after `label` in `output`, -1 when it is not there.
+double numberAfter(const std::string& output, const std::string& label) {
+  const size_t at = output.find(label);
+  return at == std::string::npos ? -1.0 : std::stod(output.substr(at + label.size()));
+}
+
+// --start and --step pick the frames a chain tracks, as a folder that keeps
+// only those frames would give them; several starts are several chains,
+// each as a run from that start alone reports it, and their mean follows.
+TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
+  // The camera swings out and back: rendered frames 1 2 3 2 1, stamps 1..5.
+  const std::string common = "risas_odometry --intrinsics " + file("camera-intrinsics.txt");
+  const std::string swing = tumFolder("swing", {1, 2, 3, 2, 1}).string();
+  // Every second frame: stamps 1, 3 and 5, as the folder that keeps every
+  // second line of rgb.txt and depth.txt gives them (docs/odometry.md).
+  ToolRun r = run(common + " --tum " + swing + " --step 2 --out " + file("every_2nd.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path thinned = dir / "thinned";
+  fs::remove_all(thinned);
+  fs::copy(swing, thinned, fs::copy_options::recursive);
+  for (const char* list : {"rgb.txt", "depth.txt"}) {
+    std::ifstream in(fs::path(swing) / list);
+    std::ofstream kept(thinned / list);
+    std::string line;
+    for (int n = 0; std::getline(in, line); ++n) {
+      if (n % 2 == 0) kept << line << "\n";
+    }
+  }
+  const ToolRun by_hand = run(common + " --tum " + thinned.string() + " --out " + file("thinned.txt"));
+  ASSERT_EQ(by_hand.exit_code, 0) << by_hand.output;
+  EXPECT_EQ(numberAfter(r.output, "ATE RMSE "), numberAfter(by_hand.output, "ATE RMSE ")) << r.output;
+  const std::vector<StampedPose> chain = readTumTrajectory(file("every_2nd.txt")),
+                                 kept = readTumTrajectory(file("thinned.txt"));
+  ASSERT_EQ(chain.size(), 3u);
+  ASSERT_EQ(kept.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(chain[i].stamp, 1.0 + 2.0 * i);
+    EXPECT_EQ(kept[i].stamp, chain[i].stamp);
+    EXPECT_TRUE(chain[i].world_T_camera.isApprox(kept[i].world_T_camera, 1e-9)) << i;
+  }
+  // Frame 3 is 12 degrees from frame 1, and the chain comes back to frame 1.
+  EXPECT_GT(Eigen::AngleAxisd(chain[1].world_T_camera.linear()).angle(), 0.1);
+  EXPECT_LT(Eigen::AngleAxisd(chain[2].world_T_camera.linear()).angle(), 0.02);
+  // Three chains from frames 0, 1 and 2, every frame: 5, 4 and 3 frames.
+  // The last has no texture: lost, held at the fourth's pose 16 cm away,
+  // it weighs on each chain's ATE as one pose of 5, 4 and 3.
+  const std::string lost = tumFolder("swing_lost", {1, 2, 3, 2, 1}).string();
+  cv::imwrite((fs::path(lost) / "rgb" / "5.png").string(), cv::Mat(480, 640, CV_8UC3, cv::Scalar(128, 128, 128)));
+  const ToolRun chains = run(common + " --tum " + lost + " --start 0,1,2 --ransac-seeds 2 --out " + file("c.txt") +
+                             " --frames " + file("c.csv"));
+  ASSERT_EQ(chains.exit_code, 0) << chains.output;
+  std::vector<double> chain_means;
+  for (int start = 0; start < 3; ++start) {
+    const std::string header = "Chain from frame " + std::to_string(start) + ", step 1:\n";
+    const size_t at = chains.output.find(header);
+    ASSERT_NE(at, std::string::npos) << chains.output;
+    const std::string report = chains.output.substr(at + header.size());
+    EXPECT_EQ(report.rfind("RISAS odometry: " + std::to_string(5 - start) + " frames, 1 not tracked", 0), 0u)
+        << report;
+    // Each chain as a run from its start alone reports it.
+    const ToolRun alone = run(common + " --tum " + lost + " --start " + std::to_string(start) +
+                              " --ransac-seeds 2 --out " + file("alone.txt"));
+    ASSERT_EQ(alone.exit_code, 0) << alone.output;
+    const std::string seeds = "ATE RMSE over 2 RANSAC seeds: mean ";
+    EXPECT_EQ(numberAfter(report, seeds), numberAfter(alone.output, seeds)) << report << alone.output;
+    EXPECT_EQ(numberAfter(report, "ATE RMSE "), numberAfter(alone.output, "ATE RMSE ")) << report << alone.output;
+    chain_means.push_back(numberAfter(report, seeds));
+  }
+  // The lost pose weighs more on the shorter chains.
+  EXPECT_GT(chain_means[0], 0.01) << chains.output;
+  EXPECT_LT(chain_means[0] + 0.005, chain_means[1]) << chains.output;
+  EXPECT_LT(chain_means[1] + 0.005, chain_means[2]) << chains.output;
+  const std::string over = "ATE RMSE over 3 chains (step 1, from frames 0, 1, 2), each chain's mean over 2 RANSAC "
+                           "seeds: mean ";
+  EXPECT_NEAR(numberAfter(chains.output, over), (chain_means[0] + chain_means[1] + chain_means[2]) / 3.0, 1e-4)
+      << chains.output;
+  // The trajectory and the frame table written are the first chain's.
+  EXPECT_EQ(readTumTrajectory(file("c.txt")).size(), 5u);
+  std::ifstream csv(file("c.csv"));
+  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(csv), std::istreambuf_iterator<char>(), '\n'), 6);
+  // A chain too short to score is said to be, and the mean is over the others.
+  r = run(common + " --tum " + swing + " --start 0,1 --step 2 --out " + file("c2.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), 2 have it"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("ATE RMSE over 1 of 2 chains (step 2, from frames 0, 1), each chain's mean over 1 RANSAC "
+                          "seed: mean "),
+            std::string::npos)
+      << r.output;
+  // A start past the recording, a step of 0 or a start given twice: one line.
+  const std::map<std::string, std::pair<int, std::string>> refused = {
+      {" --start 0,5", {1, "risas_odometry: error: --start 5 is past " + swing + "'s 5 frames (the first is 0)"}},
+      {" --step 0", {2, "risas_odometry: --step must be a whole number in [1, 1000000], got '0'"}},
+      {" --start 1,1", {2, "risas_odometry: --start names '1' twice"}},
+      {" --start -1", {2, "risas_odometry: --start must be a whole number in [0, 100000000], got '-1'"}},
+  };
+  for (const auto& [options, expected] : refused) {
+    r = run(common + " --tum " + swing + options + " --out " + file("refused.txt"));
+    EXPECT_EQ(r.exit_code, expected.first) << options << ": " << r.output;
+    EXPECT_EQ(r.output.substr(0, r.output.find('\n')).rfind(expected.second, 0), 0u) << options << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << options << ": " << r.output;
+  }
 }
 
 // The trajectory is the result: a sequence too short to score (two frames
@@ -422,6 +534,8 @@ TEST_F(Tools, OptionsAreTakenOnceAndNoneIsIgnored) {
        "risas_evaluate: --methods does not apply with --study: the study's methods are run"},
       {"risas_evaluate --data " + dir.string() + " --sequences viewchange,illum,viewchange",
        "risas_evaluate: --sequences names 'viewchange' twice"},
+      {"risas_evaluate --tum " + tumFolder(3).string() + numbers + " --gaps 1,0",
+       "risas_evaluate: --gaps must be a whole number in [1, 1000000], got '0'"},
       {"risas_evaluate --data " + dir.string() + " --methods ORB,,SIFT",
        "risas_evaluate: --methods has an empty item in 'ORB,,SIFT'"},
       {"risas_benchmark" + intrinsics, "risas_benchmark: --intrinsics does not apply to the synthetic frames"},

@@ -25,6 +25,17 @@ double parseNumber(const std::string& name, const std::string& text) {
   return value;
 }
 
+// `text` as a whole number within [lo, hi], checked before any cast (so
+// 1e20 is refused, not cast); UsageError naming the option otherwise.
+int parseWholeNumber(const std::string& name, const std::string& text, int lo, int hi) {
+  const double value = parseNumber(name, text);
+  if (!(value >= lo && value <= hi) || value != std::floor(value)) {
+    throw UsageError("--" + name + " must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                     "], got '" + text + "'");
+  }
+  return static_cast<int>(value);
+}
+
 }  // namespace
 
 Args::Args(int argc, char** argv, const std::string& synopsis, std::vector<Option> options) {
@@ -97,13 +108,7 @@ double Args::getDouble(const std::string& name, double fallback) const {
 }
 
 int Args::getInt(const std::string& name, int fallback, int lo, int hi) const {
-  if (!has(name)) return fallback;
-  const double value = getDouble(name);
-  if (!(value >= lo && value <= hi) || value != std::floor(value)) {
-    throw UsageError("--" + name + " must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], got '" + get(name) + "'");
-  }
-  return static_cast<int>(value);
+  return has(name) ? parseWholeNumber(name, get(name), lo, hi) : fallback;
 }
 
 std::vector<std::string> Args::getList(const std::string& name, const std::string& fallback) const {
@@ -121,6 +126,12 @@ std::vector<std::string> Args::getList(const std::string& name, const std::strin
     if (comma == std::string::npos) return items;
     start = comma + 1;
   }
+}
+
+std::vector<int> Args::getIntList(const std::string& name, const std::string& fallback, int lo, int hi) const {
+  std::vector<int> numbers;
+  for (const std::string& item : getList(name, fallback)) numbers.push_back(parseWholeNumber(name, item, lo, hi));
+  return numbers;
 }
 
 void Args::refuse(const std::vector<std::string>& names, const std::string& context) const {

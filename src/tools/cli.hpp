@@ -45,6 +45,9 @@ class Args {
   // UsageError for an empty item ("a,,b") or one given twice, which would
   // be dropped or run twice in silence.
   std::vector<std::string> getList(const std::string& name, const std::string& fallback) const;
+  // getList's items as whole numbers, each within [lo, hi] (UsageError as
+  // getInt's otherwise).
+  std::vector<int> getIntList(const std::string& name, const std::string& fallback, int lo, int hi) const;
   // UsageError naming the first of `names` that is given: an option that
   // does not apply in the tool's mode (`context`, e.g. "with --data") would
   // be ignored in silence.

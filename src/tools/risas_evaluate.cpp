@@ -42,13 +42,7 @@ std::vector<risas::eval::Pair> pairsFrom(const risas::cli::Args& args, const std
                                          const std::string& all_sequences, risas::eval::GroundTruthPoses poses) {
   std::vector<risas::eval::Pair> pairs;
   if (tum) {
-    std::vector<int> gaps;
-    for (const std::string& g : args.getList("gaps", "1")) {
-      std::istringstream in(g);
-      int gap = 0;
-      if (!(in >> gap) || !in.eof()) throw risas::cli::UsageError("--gaps expects whole numbers, got '" + g + "'");
-      gaps.push_back(gap);
-    }
+    const std::vector<int> gaps = args.getIntList("gaps", "1", 1, 1000000);
     pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
                                       args.getInt("pair-stride", 1, 1, 1000000));
   } else {

@@ -20,9 +20,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -83,34 +85,160 @@ void printMotionConsistency(const risas::eval::AssociatedTrajectory& all_frames,
   printConsistency("Frame-to-frame motion's covariance (the twist's) against the truth's motion", "motions", c);
 }
 
+double mean(const std::vector<double>& values) {
+  return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+}
+
+// What every chain of one run shares: the recording, its features and the
+// options that say how to track and score.
+struct Run {
+  std::string features_name, tum;
+  const risas::TumSequence* sequence = nullptr;
+  const risas::RisasParams* params = nullptr;
+  std::vector<risas::StampedPose> truth;
+  bool scored = false;  // groundtruth.txt is there
+  int seeds = 1, delta = 1;
+  // The features of the sequence's frame i, extracted once and kept while
+  // another seed or chain will need them (about 0.3 MB a frame at 1000
+  // keypoints); release(i) drops them when none will.
+  std::function<const risas::Features&(size_t)> features;
+  std::function<void(size_t)> release;
+};
+
+// The chain of frames `chain` (indices into the sequence) tracked once per
+// RANSAC seed, seeded motion.seed + k. With `out` (and `frames_csv`), the
+// first seed's trajectory (and per-frame table) is written. Prints the
+// first seed's summary, ATE, RPE and covariance checks, and the spread over
+// the seeds; returns each seed's ATE RMSE, none when the chain cannot be
+// scored.
+std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain, const std::string& out,
+                               const std::string& frames_csv_path) {
+  std::vector<double> ates;
+  const int runs = run.scored ? run.seeds : 1;  // without a ground truth the other seeds would score nothing
+  for (int k = 0; k < runs; ++k) {
+    risas::MotionParams motion = run.params->motion;
+    motion.seed = run.params->motion.seed + static_cast<unsigned int>(k);
+    risas::Odometry odometry(run.params->odometry, run.params->match, motion);
+    std::vector<risas::StampedPose> trajectory, tracked;
+    std::vector<Eigen::Matrix<double, 6, 6>> tracked_covariances;
+    std::vector<risas::eval::FrameMotion> motions;
+    // The first seed's per-frame table, written whole after its run.
+    const bool write_frames = k == 0 && !frames_csv_path.empty();
+    std::ostringstream frames_csv;
+    if (write_frames) {
+      frames_csv << "stamp,tracked,keyframe,features,matches,inliers,rmse,position_sd,rotation_sd_deg\n"
+                 << std::fixed << std::setprecision(6);
+    }
+    for (size_t j = 0; j < chain.size(); ++j) {
+      const risas::Features& features = run.features(chain[j]);
+      const double stamp = run.sequence->frames[chain[j]].stamp;
+      const risas::OdometryResult r = odometry.track(features);
+      trajectory.push_back({stamp, r.world_T_camera});
+      if (r.tracked) {
+        tracked.push_back({stamp, r.world_T_camera});
+        tracked_covariances.push_back(r.covariance);
+      }
+      if (r.motion_tracked) motions.push_back({j - 1, j, r.previous_T_camera, r.motion_covariance});
+      if (write_frames) {
+        frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size() << ","
+                   << r.matches << "," << r.inliers << "," << r.rmse << ","
+                   << std::sqrt(r.covariance.topLeftCorner<3, 3>().trace()) << ","
+                   << std::sqrt(r.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI << "\n";
+      }
+      if (k == runs - 1) run.release(chain[j]);
+    }
+    const risas::eval::AssociatedTrajectory all_frames =
+        run.scored ? risas::eval::associate(trajectory, run.truth) : risas::eval::AssociatedTrajectory();
+    // The trajectory is the result; the score, which groundtruth.txt's
+    // presence asks for, needs three frames with ground truth.
+    const size_t with_truth = all_frames.estimate.size();
+    const bool scorable = run.scored && with_truth >= 3;
+    const risas::eval::TrajectoryError e =
+        scorable ? risas::eval::trajectoryError(all_frames, run.delta) : risas::eval::TrajectoryError();
+    if (scorable) ates.push_back(e.ate_rmse);
+    if (k > 0) continue;
+    if (write_frames) risas::writeTextFile(frames_csv_path, frames_csv.str(), "frame table");
+    if (!out.empty()) risas::writeTumTrajectory(out, trajectory);
+    std::cout << run.features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
+              << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes() << " keyframes"
+              << (out.empty() ? "" : "; trajectory written to " + out) << "\n";
+    if (!run.scored) {
+      std::cout << "Not scored: " << run.tum << " has no groundtruth.txt"
+                << (run.seeds > 1 ? "; one RANSAC seed run, not " + std::to_string(run.seeds) : "") << "\n";
+      continue;
+    }
+    if (!scorable) {
+      std::cout << "Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), " << with_truth
+                << " have it\n";
+      continue;
+    }
+    std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
+              << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n";
+    if (e.rpe_pairs == 0) {
+      std::cout << "RPE (" << run.delta << " frame): no two frames with ground truth that far apart\n";
+    } else {
+      std::cout << "RPE (" << run.delta << " frame) translation RMSE " << e.rpe_translation_rmse
+                << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
+                << e.rpe_pairs << " pairs\n";
+    }
+    printCovarianceConsistency(risas::eval::associate(tracked, run.truth), tracked_covariances);
+    printMotionConsistency(all_frames, motions);
+  }
+  if (!ates.empty() && run.seeds > 1) {
+    // One seed is one draw: where inliers are few, which keyframe poses
+    // RANSAC finds is luck, and the chain carries it (docs/odometry.md).
+    // The median beside the mean: one unlucky seed moves the mean alone.
+    const auto [lowest, highest] = std::minmax_element(ates.begin(), ates.end());
+    std::cout << std::fixed << std::setprecision(4) << "ATE RMSE over " << run.seeds << " RANSAC seeds: mean "
+              << mean(ates) << " m, median " << risas::eval::median(ates) << " m, from " << *lowest << " to "
+              << *highest << " m\n";
+  }
+  return ates;
+}
+
+// "0, 7, 14" for a list of starting frames.
+std::string joined(const std::vector<int>& numbers) {
+  std::string text;
+  for (int n : numbers) text += (text.empty() ? "" : ", ") + std::to_string(n);
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return risas::cli::runTool("risas_odometry", [&] {
     std::vector<risas::cli::Option> options = {
         {"tum", "DIR", "TUM RGB-D folder: rgb.txt, depth.txt (5000 units per metre), groundtruth.txt"},
-        {"out", "T.txt", "trajectory to write (TUM format: timestamp tx ty tz qx qy qz qw)"},
+        {"out", "T.txt", "trajectory to write (TUM format: timestamp tx ty tz qx qy qz qw); the first chain's"},
         {"features", "NAME",
          "RISAS (default), ORB (1000, with depth) or ORB-distinct (ORB's strongest keypoint within 3 px only): the "
          "same odometry on each"},
         {"frames", "CSV",
          "also write per frame: stamp, tracked, keyframe, features, matches, inliers, rmse and the pose's standard "
-         "deviations (position m, rotation deg: the roots of the covariance's traces)"},
-        {"delta", "N", "RPE over frame pairs N apart (default 1)"},
-        {"max-frames", "N", "stop after N frames"},
+         "deviations (position m, rotation deg: the roots of the covariance's traces); the first chain's"},
+        {"step", "N", "track every N-th frame: the camera at 1/N of its rate (default 1)"},
+        {"start", "S[,S...]",
+         "track from frame S (0 = the first; default 0); several starts track a chain of frames from each"},
+        {"delta", "N", "RPE over tracked frame pairs N apart (default 1)"},
+        {"max-frames", "N", "track at most N frames a chain"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_odometry --tum DIR --out T.txt --intrinsics K.txt | --fx F --fy F --cx C --cy C\n"
-        "               [--features RISAS|ORB|ORB-distinct] [--params P.yml] [--frames F.csv] [--delta 1] [--ransac-seeds N]\n"
+        "               [--features RISAS|ORB|ORB-distinct] [--params P.yml] [--frames F.csv] [--delta 1]\n"
+        "               [--step N] [--start S[,S...]] [--ransac-seeds N]\n"
         "Frame-to-keyframe RGB-D odometry (risas::Odometry) over a TUM-layout sequence; writes the\n"
         "trajectory and, with groundtruth.txt, prints ATE RMSE (after a rigid alignment), RPE and how the\n"
         "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
         "frame-to-frame motion's (a twist's) with the truth's motion.\n"
         "With --ransac-seeds N the same features are tracked N times, RANSAC seeded motion.seed + k:\n"
         "the trajectory written is the first seed's, and the ATE's mean, median and range over the N follow.\n"
+        "--step N tracks frames S, S + N, S + 2N, ... (S from --start): the camera at a lower rate. Where the\n"
+        "keyframes fall moves the ATE (docs/odometry.md): with several starts (--start 0,7,14 or, with\n"
+        "--step 3, --start 0,1,2) each start is a chain of its own, reported in turn, and the mean over the\n"
+        "chains of each chain's mean ATE follows; --out and --frames hold the first chain's.\n"
         "Plot it with scripts/plot_trajectory.py GT.txt T.txt [...] --out P.png.",
         options);
     cv::setNumThreads(1);
@@ -122,108 +250,73 @@ int main(int argc, char** argv) {
     if (args.has("frames")) risas::cli::requireWritable(args.get("frames"));
     const risas::RisasParams params = risas::cli::paramsFrom(args);
     const risas::Intrinsics K = risas::cli::intrinsicsFrom(args);
+    const int max_frames = args.getInt("max-frames", 100000000, 1, 100000000);
+    const int step = args.getInt("step", 1, 1, 1000000);
+    const std::vector<int> starts = args.getIntList("start", "0", 0, 100000000);
     const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"));
-    const int max_frames = args.getInt("max-frames", static_cast<int>(sequence.frames.size()), 1, 100000000);
-    const int seeds = args.getInt("ransac-seeds", 1, 1, 1000);
-    const int delta = args.getInt("delta", 1, 1, 1000000);
-    const std::filesystem::path gt = std::filesystem::path(args.get("tum")) / "groundtruth.txt";
-    const bool scored = std::filesystem::exists(gt);
+    Run run;
+    run.features_name = features_name;
+    run.tum = args.get("tum");
+    run.sequence = &sequence;
+    run.params = &params;
+    run.seeds = args.getInt("ransac-seeds", 1, 1, 1000);
+    run.delta = args.getInt("delta", 1, 1, 1000000);
+    const std::filesystem::path gt = std::filesystem::path(run.tum) / "groundtruth.txt";
+    run.scored = std::filesystem::exists(gt);
+    if (run.scored) run.truth = risas::readTumTrajectory(gt.string());
 
-    // Features once per frame: the seeds change only the tracking. The
-    // first seed tracks them as they come; more seeds keep them (about
-    // 0.3 MB a frame at 1000 keypoints) for the runs after it.
+    // The chains: frames start, start + step, ... from each start.
+    std::vector<std::vector<size_t>> chains;
+    for (int start : starts) {
+      if (static_cast<size_t>(start) >= sequence.frames.size()) {
+        throw risas::InputError("--start " + std::to_string(start) + " is past " + run.tum + "'s " +
+                                std::to_string(sequence.frames.size()) + " frames (the first is 0)");
+      }
+      std::vector<size_t> chain;
+      for (size_t i = static_cast<size_t>(start);
+           i < sequence.frames.size() && chain.size() < static_cast<size_t>(max_frames); i += static_cast<size_t>(step)) {
+        chain.push_back(i);
+      }
+      chains.push_back(chain);
+    }
+
+    // Features once per frame: the seeds and the chains change only the
+    // tracking. A frame's are kept until the last chain that has it has
+    // tracked it with the last seed.
     const auto risas = risas::Risas::create(params);
     const cv::Ptr<cv::ORB> orb = cv::ORB::create(1000);
-    const size_t count = static_cast<size_t>(std::min<int>(max_frames, static_cast<int>(sequence.frames.size())));
-    std::vector<risas::Features> kept;
-    const auto extract = [&](size_t i) {
-      const risas::RgbdFrame frame = risas::loadTumFrame(sequence.frames[i], K);
-      return features_name == "RISAS" ? risas->extract(frame) : orbFeatures(orb, frame, features_name == "ORB-distinct");
-    };
-    const std::vector<risas::StampedPose> truth =
-        scored ? risas::readTumTrajectory(gt.string()) : std::vector<risas::StampedPose>();
-    std::vector<double> ates;
-    const int runs = scored ? seeds : 1;  // without a ground truth the other seeds would score nothing
-    for (int k = 0; k < runs; ++k) {
-      risas::MotionParams motion = params.motion;
-      motion.seed = params.motion.seed + static_cast<unsigned int>(k);
-      risas::Odometry odometry(params.odometry, params.match, motion);
-      std::vector<risas::StampedPose> trajectory, tracked;
-      std::vector<Eigen::Matrix<double, 6, 6>> tracked_covariances;
-      std::vector<risas::eval::FrameMotion> motions;
-      // The first seed's per-frame table, written whole after its run.
-      const bool write_frames = k == 0 && args.has("frames");
-      std::ostringstream frames_csv;
-      if (write_frames) {
-        frames_csv << "stamp,tracked,keyframe,features,matches,inliers,rmse,position_sd,rotation_sd_deg\n"
-                   << std::fixed << std::setprecision(6);
-      }
-      for (size_t i = 0; i < count; ++i) {
-        risas::Features extracted;
-        if (k == 0) {
-          extracted = extract(i);
-          if (runs > 1) kept.push_back(extracted);
-        }
-        const risas::Features& features = k == 0 ? extracted : kept[i];
-        const double stamp = sequence.frames[i].stamp;
-        const risas::OdometryResult r = odometry.track(features);
-        trajectory.push_back({stamp, r.world_T_camera});
-        if (r.tracked) {
-          tracked.push_back({stamp, r.world_T_camera});
-          tracked_covariances.push_back(r.covariance);
-        }
-        if (r.motion_tracked) motions.push_back({i - 1, i, r.previous_T_camera, r.motion_covariance});
-        if (write_frames) {
-          frames_csv << stamp << "," << r.tracked << "," << r.new_keyframe << "," << features.keypoints.size()
-                     << "," << r.matches << "," << r.inliers << "," << r.rmse << ","
-                     << std::sqrt(r.covariance.topLeftCorner<3, 3>().trace()) << ","
-                     << std::sqrt(r.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI << "\n";
-        }
-      }
-      const risas::eval::AssociatedTrajectory all_frames =
-          scored ? risas::eval::associate(trajectory, truth) : risas::eval::AssociatedTrajectory();
-      // The trajectory is the result; the score, which groundtruth.txt's
-      // presence asks for, needs three frames with ground truth.
-      const size_t with_truth = all_frames.estimate.size();
-      const bool scorable = scored && with_truth >= 3;
-      const risas::eval::TrajectoryError e =
-          scorable ? risas::eval::trajectoryError(all_frames, delta) : risas::eval::TrajectoryError();
-      if (scorable) ates.push_back(e.ate_rmse);
-      if (k > 0) continue;
-      if (write_frames) risas::writeTextFile(args.get("frames"), frames_csv.str(), "frame table");
-      risas::writeTumTrajectory(out, trajectory);
-      std::cout << features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
-                << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes()
-                << " keyframes; trajectory written to " << out << "\n";
-      if (!scored) {
-        std::cout << "Not scored: " << args.get("tum") << " has no groundtruth.txt"
-                  << (seeds > 1 ? "; one RANSAC seed run, not " + std::to_string(seeds) : "") << "\n";
-        continue;
-      }
-      if (!scorable) {
-        std::cout << "Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), " << with_truth
-                  << " have it\n";
-        continue;
-      }
-      std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
-                << ", median " << e.ate_median << ", max " << e.ate_max << ") over " << e.poses << " poses\n";
-      if (e.rpe_pairs == 0) {
-        std::cout << "RPE (" << delta << " frame): no two frames with ground truth that far apart\n";
-      } else {
-        std::cout << "RPE (" << delta << " frame) translation RMSE " << e.rpe_translation_rmse << " m, rotation RMSE "
-                  << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over " << e.rpe_pairs << " pairs\n";
-      }
-      printCovarianceConsistency(risas::eval::associate(tracked, truth), tracked_covariances);
-      printMotionConsistency(all_frames, motions);
+    std::vector<int> uses(sequence.frames.size(), 0);
+    for (const std::vector<size_t>& chain : chains) {
+      for (size_t i : chain) ++uses[i];
     }
-    if (!ates.empty() && seeds > 1) {
-      // One seed is one draw: where inliers are few, which keyframe poses
-      // RANSAC finds is luck, and the chain carries it (docs/odometry.md).
-      // The median beside the mean: one unlucky seed moves the mean alone.
-      const auto [lowest, highest] = std::minmax_element(ates.begin(), ates.end());
-      std::cout << std::fixed << std::setprecision(4) << "ATE RMSE over " << seeds << " RANSAC seeds: mean "
-                << std::accumulate(ates.begin(), ates.end(), 0.0) / seeds << " m, median " << risas::eval::median(ates)
-                << " m, from " << *lowest << " to " << *highest << " m\n";
+    std::vector<std::optional<risas::Features>> kept(sequence.frames.size());
+    run.features = [&](size_t i) -> const risas::Features& {
+      if (!kept[i]) {
+        const risas::RgbdFrame frame = risas::loadTumFrame(sequence.frames[i], K);
+        kept[i] = features_name == "RISAS" ? risas->extract(frame)
+                                           : orbFeatures(orb, frame, features_name == "ORB-distinct");
+      }
+      return *kept[i];
+    };
+    run.release = [&](size_t i) {
+      if (--uses[i] == 0) kept[i].reset();
+    };
+
+    std::vector<double> chain_ates;  // each scored chain's mean over the seeds
+    for (size_t c = 0; c < chains.size(); ++c) {
+      if (chains.size() > 1) std::cout << "Chain from frame " << starts[c] << ", step " << step << ":\n";
+      const bool first = c == 0;
+      const std::vector<double> ates =
+          trackChain(run, chains[c], first ? out : "", first ? args.get("frames", "") : "");
+      if (!ates.empty()) chain_ates.push_back(mean(ates));
+    }
+    if (chains.size() > 1 && !chain_ates.empty()) {
+      const auto [lowest, highest] = std::minmax_element(chain_ates.begin(), chain_ates.end());
+      std::cout << std::fixed << std::setprecision(4) << "ATE RMSE over "
+                << (chain_ates.size() < chains.size() ? std::to_string(chain_ates.size()) + " of " : "")
+                << chains.size() << " chains (step " << step << ", from frames " << joined(starts)
+                << "), each chain's mean over " << run.seeds << " RANSAC seed" << (run.seeds > 1 ? "s" : "")
+                << ": mean " << mean(chain_ates) << " m, from " << *lowest << " to " << *highest << " m\n";
     }
     return 0;
   });
