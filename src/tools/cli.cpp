@@ -130,7 +130,14 @@ std::vector<std::string> Args::getList(const std::string& name, const std::strin
 
 std::vector<int> Args::getIntList(const std::string& name, const std::string& fallback, int lo, int hi) const {
   std::vector<int> numbers;
-  for (const std::string& item : getList(name, fallback)) numbers.push_back(parseWholeNumber(name, item, lo, hi));
+  for (const std::string& item : getList(name, fallback)) {
+    const int number = parseWholeNumber(name, item, lo, hi);
+    // Written two ways ("1,01"), getList's check does not see it.
+    if (std::find(numbers.begin(), numbers.end(), number) != numbers.end()) {
+      throw UsageError("--" + name + " names " + std::to_string(number) + " twice");
+    }
+    numbers.push_back(number);
+  }
   return numbers;
 }
 

@@ -46,7 +46,7 @@ class Args {
   // be dropped or run twice in silence.
   std::vector<std::string> getList(const std::string& name, const std::string& fallback) const;
   // getList's items as whole numbers, each within [lo, hi] (UsageError as
-  // getInt's otherwise).
+  // getInt's otherwise) and each once ("1,01" is refused too).
   std::vector<int> getIntList(const std::string& name, const std::string& fallback, int lo, int hi) const;
   // UsageError naming the first of `names` that is given: an option that
   // does not apply in the tool's mode (`context`, e.g. "with --data") would

@@ -106,8 +106,8 @@ struct Run {
 };
 
 // The chain of frames `chain` (indices into the sequence) tracked once per
-// RANSAC seed, seeded motion.seed + k. With `out` (and `frames_csv`), the
-// first seed's trajectory (and per-frame table) is written. Prints the
+// RANSAC seed, seeded motion.seed + k. Unless `out` (`frames_csv_path`) is
+// empty, the first seed's trajectory (per-frame table) is written there. Prints the
 // first seed's summary, ATE, RPE and covariance checks, and the spread over
 // the seeds; returns each seed's ATE RMSE, none when the chain cannot be
 // scored.
