@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Reproduces docs/odometry.md: risas::Odometry on RISAS and on ORB features
 # over the three TUM-layout recordings, ATE and RPE, and the plots; then
-# the kitchen's table of "Where the keyframes fall" (a chain of keyframes
-# from each of several starting frames, at 30, 15 and 10 Hz). Usage:
+# the tables of "Where the keyframes fall" for fr1_xyz and the kitchen (a
+# chain of keyframes from each of several starting frames, at 30, 15 and
+# 10 Hz). Usage:
 #   scripts/odometry.sh [TUM_ROOT] [OUT_DIR]
 # (defaults: ../shared/data/tum next to the repository, build/odometry).
-# About seven minutes on 2 cores, six of them the kitchen's chains.
+# About eight minutes on 2 cores, seven of them the chains.
 set -euo pipefail
 "$(dirname "$0")/install_deps.sh"
 source "$(dirname "$0")/env.sh"
@@ -46,24 +47,30 @@ fr3_cabinet fr3_cabinet_keyframes 535.4 539.2 320.1 247.6
 7scenes_redkitchen 7scenes_redkitchen 585 585 320 240
 LIST
 
-# The kitchen's chains: every frame from frames 0, 7, 14, 21 and 28; every
-# second frame from 0 and 1; every third from 0, 1 and 2. A cell is the
-# mean over the chains of each chain's mean ATE, and the chains' range.
-table="$out/kitchen_chains.md"
-{
-  echo "| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
-  echo "|---|---|---|---|"
-} > "$table"
-for run in "${runs[@]}"; do
-  row="| $run |"
-  for chains in "1 0,7,14,21,28" "2 0,1" "3 0,1,2"; do
-    read -r step starts <<< "$chains"
-    echo "== 7scenes_redkitchen, $run, step $step, from frames $starts"
-    track "$run" "$tum/7scenes_redkitchen" 585 585 320 240 --step "$step" --start "$starts" \
-      --out "$out/kitchen_chains_${run}_step${step}.txt" | tee "$out/kitchen_chains_${run}_step${step}.log"
-    row+=" $(sed -nE 's/^ATE RMSE over .* chains .*: mean ([0-9.]+) m, from ([0-9.]+) to ([0-9.]+) m$/\1 m (\2–\3)/p' \
-      "$out/kitchen_chains_${run}_step${step}.log") |"
+# The chains of "Where the keyframes fall": at 30 Hz one from each of five
+# starting frames; every second frame from 0 and 1; every third from 0, 1
+# and 2. A cell is the mean over the chains of each chain's mean ATE, and
+# the chains' range. name folder intrinsics starts-at-30-Hz:
+while read -r name folder fx fy cx cy starts30; do
+  table="$out/${name}_chains.md"
+  {
+    echo "| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
+    echo "|---|---|---|---|"
+  } > "$table"
+  for run in "${runs[@]}"; do
+    row="| $run |"
+    for chains in "1 $starts30" "2 0,1" "3 0,1,2"; do
+      read -r step starts <<< "$chains"
+      log="$out/${name}_chains_${run}_step${step}.log"
+      echo "== $name, $run, step $step, from frames $starts"
+      track "$run" "$tum/$folder" "$fx" "$fy" "$cx" "$cy" --step "$step" --start "$starts" \
+        --out "$out/${name}_chains_${run}_step${step}.txt" | tee "$log"
+      row+=" $(sed -nE 's/^ATE RMSE over .* chains .*: mean ([0-9.]+) m, from ([0-9.]+) to ([0-9.]+) m$/\1 m (\2–\3)/p' "$log") |"
+    done
+    echo "$row" >> "$table"
   done
-  echo "$row" >> "$table"
-done
-cat "$table"
+  cat "$table"
+done <<'LIST'
+fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3 0,4,8,12,16
+7scenes_redkitchen 7scenes_redkitchen 585 585 320 240 0,7,14,21,28
+LIST
