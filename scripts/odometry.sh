@@ -21,6 +21,14 @@ risas_build > "$RISAS_WS/build.log" 2>&1 || { tail -30 "$RISAS_WS/build.log"; ex
 # (RISAS_vo), ORB, and ORB's strongest keypoint within 3 px only
 # (ORB-distinct); 8 RANSAC seeds each.
 runs=(RISAS RISAS_vo ORB ORB-distinct)
+# name folder fx fy cx cy, as ../shared/data/tum/README.md gives them, and
+# the chains' starting frames at 30 Hz ("-": no chains; the cabinet's are
+# keyframes, not a camera's frames at its rate).
+recordings=(
+  "fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3 0,4,8,12,16"
+  "fr3_cabinet fr3_cabinet_keyframes 535.4 539.2 320.1 247.6 -"
+  "7scenes_redkitchen 7scenes_redkitchen 585 585 320 240 0,7,14,21,28"
+)
 # track RUN FOLDER FX FY CX CY [risas_odometry options...]
 track() {
   local run="$1" folder="$2" fx="$3" fy="$4" cx="$5" cy="$6"
@@ -31,8 +39,8 @@ track() {
     --features "${run%_vo}" "${params[@]}" --ransac-seeds 8 "$@"
 }
 
-# name folder intrinsics, as ../shared/data/tum/README.md gives them
-while read -r name folder fx fy cx cy; do
+for recording in "${recordings[@]}"; do
+  read -r name folder fx fy cx cy _ <<< "$recording"
   for run in "${runs[@]}"; do
     echo "== $name, $run"
     track "$run" "$tum/$folder" "$fx" "$fy" "$cx" "$cy" --out "$out/${name}_${run}.txt" --frames "$out/${name}_${run}.csv"
@@ -41,17 +49,15 @@ while read -r name folder fx fy cx cy; do
     "$out/${name}_RISAS.txt=RISAS" "$out/${name}_RISAS_vo.txt=RISAS (odometry.yaml)" "$out/${name}_ORB.txt=ORB" \
     "$out/${name}_ORB-distinct.txt=ORB-distinct" \
     --out "$out/${name}.png"
-done <<'LIST'
-fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3
-fr3_cabinet fr3_cabinet_keyframes 535.4 539.2 320.1 247.6
-7scenes_redkitchen 7scenes_redkitchen 585 585 320 240
-LIST
+done
 
 # The chains of "Where the keyframes fall": at 30 Hz one from each of five
 # starting frames; every second frame from 0 and 1; every third from 0, 1
 # and 2. A cell is the mean over the chains of each chain's mean ATE, and
-# the chains' range. name folder intrinsics starts-at-30-Hz:
-while read -r name folder fx fy cx cy starts30; do
+# the chains' range.
+for recording in "${recordings[@]}"; do
+  read -r name folder fx fy cx cy starts30 <<< "$recording"
+  [ "$starts30" = - ] && continue
   table="$out/${name}_chains.md"
   {
     echo "| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
@@ -70,7 +76,4 @@ while read -r name folder fx fy cx cy starts30; do
     echo "$row" >> "$table"
   done
   cat "$table"
-done <<'LIST'
-fr1_xyz fr1_xyz 517.3 516.5 318.6 255.3 0,4,8,12,16
-7scenes_redkitchen 7scenes_redkitchen 585 585 320 240 0,7,14,21,28
-LIST
+done

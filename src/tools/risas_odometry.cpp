@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <numeric>
@@ -89,20 +88,62 @@ double mean(const std::vector<double>& values) {
   return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
 }
 
+// The features of a recording's frames for a set of chains, extracted once
+// a frame: the seeds and the chains change only the tracking. A frame's
+// are kept (about 0.3 MB a frame at 1000 keypoints) until every chain that
+// has the frame has released it.
+class FeatureCache {
+ public:
+  // features_name: RISAS (with params), ORB or ORB-distinct.
+  FeatureCache(const risas::TumSequence& sequence, const risas::Intrinsics& K, const std::string& features_name,
+               const risas::RisasParams& params, const std::vector<std::vector<size_t>>& chains)
+      : sequence_(sequence),
+        K_(K),
+        features_name_(features_name),
+        risas_(risas::Risas::create(params)),
+        orb_(cv::ORB::create(1000)),
+        uses_(sequence.frames.size(), 0),
+        kept_(sequence.frames.size()) {
+    for (const std::vector<size_t>& chain : chains) {
+      for (size_t i : chain) ++uses_[i];
+    }
+  }
+
+  // Frame i's features, extracted on the first call.
+  const risas::Features& get(size_t i) {
+    if (!kept_[i]) {
+      const risas::RgbdFrame frame = risas::loadTumFrame(sequence_.frames[i], K_);
+      kept_[i] = features_name_ == "RISAS" ? risas_->extract(frame)
+                                           : orbFeatures(orb_, frame, features_name_ == "ORB-distinct");
+    }
+    return *kept_[i];
+  }
+
+  // One chain is done with frame i; the last one's release drops them.
+  void release(size_t i) {
+    if (--uses_[i] == 0) kept_[i].reset();
+  }
+
+ private:
+  const risas::TumSequence& sequence_;
+  const risas::Intrinsics K_;
+  const std::string features_name_;
+  const cv::Ptr<risas::Risas> risas_;
+  const cv::Ptr<cv::ORB> orb_;
+  std::vector<int> uses_;  // per frame: the chains that have not released it
+  std::vector<std::optional<risas::Features>> kept_;
+};
+
 // What every chain of one run shares: the recording, its features and the
 // options that say how to track and score.
 struct Run {
   std::string features_name, tum;
   const risas::TumSequence* sequence = nullptr;
   const risas::RisasParams* params = nullptr;
+  FeatureCache* features = nullptr;
   std::vector<risas::StampedPose> truth;
   bool scored = false;  // groundtruth.txt is there
   int seeds = 1, delta = 1;
-  // The features of the sequence's frame i, extracted once and kept while
-  // another seed or chain will need them (about 0.3 MB a frame at 1000
-  // keypoints); release(i) drops them when none will.
-  std::function<const risas::Features&(size_t)> features;
-  std::function<void(size_t)> release;
 };
 
 // The chain of frames `chain` (indices into the sequence) tracked once per
@@ -130,7 +171,7 @@ std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain,
                  << std::fixed << std::setprecision(6);
     }
     for (size_t j = 0; j < chain.size(); ++j) {
-      const risas::Features& features = run.features(chain[j]);
+      const risas::Features& features = run.features->get(chain[j]);
       const double stamp = run.sequence->frames[chain[j]].stamp;
       const risas::OdometryResult r = odometry.track(features);
       trajectory.push_back({stamp, r.world_T_camera});
@@ -145,7 +186,7 @@ std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain,
                    << std::sqrt(r.covariance.topLeftCorner<3, 3>().trace()) << ","
                    << std::sqrt(r.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI << "\n";
       }
-      if (k == runs - 1) run.release(chain[j]);
+      if (k == runs - 1) run.features->release(chain[j]);
     }
     const risas::eval::AssociatedTrajectory all_frames =
         run.scored ? risas::eval::associate(trajectory, run.truth) : risas::eval::AssociatedTrajectory();
@@ -280,27 +321,8 @@ int main(int argc, char** argv) {
       chains.push_back(chain);
     }
 
-    // Features once per frame: the seeds and the chains change only the
-    // tracking. A frame's are kept until the last chain that has it has
-    // tracked it with the last seed.
-    const auto risas = risas::Risas::create(params);
-    const cv::Ptr<cv::ORB> orb = cv::ORB::create(1000);
-    std::vector<int> uses(sequence.frames.size(), 0);
-    for (const std::vector<size_t>& chain : chains) {
-      for (size_t i : chain) ++uses[i];
-    }
-    std::vector<std::optional<risas::Features>> kept(sequence.frames.size());
-    run.features = [&](size_t i) -> const risas::Features& {
-      if (!kept[i]) {
-        const risas::RgbdFrame frame = risas::loadTumFrame(sequence.frames[i], K);
-        kept[i] = features_name == "RISAS" ? risas->extract(frame)
-                                           : orbFeatures(orb, frame, features_name == "ORB-distinct");
-      }
-      return *kept[i];
-    };
-    run.release = [&](size_t i) {
-      if (--uses[i] == 0) kept[i].reset();
-    };
+    FeatureCache features(sequence, K, features_name, params, chains);
+    run.features = &features;
 
     std::vector<double> chain_ates;  // each scored chain's mean over the seeds
     for (size_t c = 0; c < chains.size(); ++c) {
