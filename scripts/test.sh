@@ -106,7 +106,7 @@ if [[ " $stages " == *" sanitize "* ]]; then
   # the copy the CPU picks (AVX-512 on CI's), clang and thread the baseline.
   avx2=OFF
   grep -qw avx2 /proc/cpuinfo && avx2=ON
-  plain_stage sanitize g++ "-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+  plain_stage sanitize clang++ "-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_FUZZ_SECONDS="${RISAS_FUZZ_SECONDS:-60}" -DRISAS_ROW_LOOPS_AVX2="$avx2"
   unset ASAN_OPTIONS UBSAN_OPTIONS
 fi
@@ -123,7 +123,7 @@ if [[ " $stages " == *" thread "* ]]; then
   # randomise more bits (vm.mmap_rnd_bits 32; google/sanitizers#1716).
   if setarch "$(uname -m)" -R true 2> /dev/null; then stage_launcher=(setarch "$(uname -m)" -R); fi
   ctest_preload=lib/librisas_std_thread_backend.so
-  plain_stage thread g++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON \
+  plain_stage thread clang++ "-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRISAS_TSAN_STAGE=ON \
     -DRISAS_FUZZ_SECONDS="${RISAS_TSAN_FUZZ_SECONDS:-30}" -DRISAS_FUZZ_SEED=2
   stage_launcher=()
   ctest_preload=""
