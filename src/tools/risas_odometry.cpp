@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
         {"step", "N", "track every N-th frame: the camera at 1/N of its rate (default 1)"},
         {"start", "S[,S...]",
          "track from frame S (0 = the first; default 0); several starts track a chain of frames from each"},
-        {"delta", "N", "RPE over tracked frame pairs N apart (default 1)"},
+        {"delta", "N", "RPE over frame pairs N apart in the chain, N x step of the camera's (default 1)"},
         {"max-frames", "N", "track at most N frames a chain"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
         risas::cli::paramsOption()};
