@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Runs every test of risas on a fresh Debian 12: installs what is missing,
 # then five stages, and exits non-zero when any test fails:
-#   1. ros: the catkin package (Release, gcc): unit tests and rostests (the
-#      display test among them, under an Xvfb of its own), and
-#      scripts/demo.sh headless;
+#   1. ros: the catkin package (Release, gcc), built with
+#      -DCATKIN_ENABLE_TESTING=OFF and installed, then its unit tests and
+#      rostests (the display test among them, under an Xvfb of its own),
+#      and scripts/demo.sh headless;
 #   2. sanitize: the ROS-free core with ASan+UBSan (clang; any report is
 #      fatal), its row loops' AVX2 copy alone where the CPU has AVX2: its
 #      unit tests and the fuzz loop for RISAS_FUZZ_SECONDS (60);
@@ -13,8 +14,8 @@
 #      for RISAS_TSAN_FUZZ_SECONDS (30);
 #   4. clang: the ROS-free core with clang, unsanitized (Release): its unit
 #      tests;
-#   5. downstream: the package built with -DCATKIN_ENABLE_TESTING=OFF and
-#      installed, the clang build installed with `cmake --install`, and a
+#   5. downstream: the ros stage's install (built here when that stage did
+#      not run), the clang build installed with `cmake --install`, and a
 #      user's catkin package and plain-CMake project built against each
 #      install and run (test/downstream).
 # Ends with one line over all of them: "N passed, N failed, N skipped".
@@ -27,14 +28,26 @@ stages="${RISAS_TEST_STAGES:-ros sanitize thread clang downstream}"
 plain_root="${RISAS_PLAIN_BUILDS:-$(dirname "$RISAS_WS")/risas_plain}"
 results=()
 
+# install_package: the catkin package built with -DCATKIN_ENABLE_TESTING=OFF
+# (it must build so) and installed into $RISAS_WS/install, for the downstream
+# stage. In the ros stage's workspace: turning tests on afterwards builds
+# only the tests, since the package's own objects keep their flags.
+install_package() {
+  mkdir -p "$RISAS_WS"
+  rm -rf "$RISAS_WS/install"
+  risas_build -DCATKIN_ENABLE_TESTING=OFF install > "$RISAS_WS/install.log" 2>&1 ||
+    { grep -E "error|Error" "$RISAS_WS/install.log" | head -30; exit 1; }
+}
+
 if [[ " $stages " == *" ros "* ]]; then
   echo "== stage ros: catkin package, unit tests and rostests"
   SECONDS=0
-  risas_build
+  install_package
   rm -rf "$RISAS_WS/build/test_results"
   # --force-cmake: after a first configure catkin keeps an empty PYTHONPATH for
   # tests. run_tests always exits 0; the summary says what happened.
-  catkin_make -C "$RISAS_WS" "${RISAS_CMAKE_ARGS[@]}" --force-cmake -j"$(nproc)" run_tests > "$RISAS_WS/run_tests.log" 2>&1 ||
+  catkin_make -C "$RISAS_WS" "${RISAS_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=ON --force-cmake -j"$(nproc)" run_tests \
+    > "$RISAS_WS/run_tests.log" 2>&1 ||
     { tail -50 "$RISAS_WS/run_tests.log"; exit 1; }
   grep -E "^\[ *(RUN|OK|FAILED|PASSED) |FAILURE|Failure" "$RISAS_WS/run_tests.log" | grep -v "^\[ RUN" || true
   # The README's first command as a user without a display runs it: the
@@ -144,15 +157,8 @@ fi
 if [[ " $stages " == *" downstream "* ]]; then
   echo "== stage downstream: installed package, a user's catkin package and CMake project against it"
   SECONDS=0
-  # The catkin package without tests (it must build so), installed.
-  notest_ws="$plain_root/catkin_notest_ws"
-  # Built from another clone last: its build would not notice this one's
-  # files (as risas_build's workspace), so it starts afresh.
-  [ "$(readlink "$notest_ws/src/risas" 2>/dev/null)" = "$RISAS_ROOT" ] || rm -rf "$notest_ws"
-  mkdir -p "$notest_ws/src"
-  ln -sfn "$RISAS_ROOT" "$notest_ws/src/risas"
-  catkin_make -C "$notest_ws" "${RISAS_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=OFF -j"$(nproc)" install \
-    > "$notest_ws.log" 2>&1 || { grep -E "error|Error" "$notest_ws.log" | head -30; exit 1; }
+  # The catkin package without tests, installed (the ros stage's, built here when that stage did not run).
+  [[ " $stages " == *" ros "* ]] || install_package
   # The plain build (the clang stage's; built here when that stage did not run), installed.
   plain_build clang clang++ "" -DCMAKE_BUILD_TYPE=Release
   rm -rf "$plain_root/prefix"
@@ -161,7 +167,7 @@ if [[ " $stages " == *" downstream "* ]]; then
   dir="$plain_root/downstream"
   own_build_dir "$dir" "$RISAS_ROOT/test/downstream"
   cmake -S "$RISAS_ROOT/test/downstream" -B "$dir" -DRISAS_PREFIX="$plain_root/prefix" \
-        -DRISAS_CATKIN_INSTALL="$notest_ws/install" > "$dir.configure.log" 2>&1 || { tail -20 "$dir.configure.log"; exit 1; }
+        -DRISAS_CATKIN_INSTALL="$RISAS_WS/install" > "$dir.configure.log" 2>&1 || { tail -20 "$dir.configure.log"; exit 1; }
   (cd "$dir" && ctest --output-on-failure --output-junit junit.xml > ctest.log 2>&1) ||
     grep -vE "^\s*$" "$dir/ctest.log" | tail -40 || true
   tail -3 "$dir/ctest.log"
