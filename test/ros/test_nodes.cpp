@@ -29,6 +29,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <ros/master.h>
 #include <ros/ros.h>
 
 #include <cmath>
@@ -44,7 +45,23 @@ namespace {
 
 namespace enc = sensor_msgs::image_encodings;
 
-// Everything received on a topic, in arrival order.
+// The nodes the master lists as publishers of `topic` (a resolved name).
+int publishersOf(const std::string& topic) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  if (!ros::master::execute("getSystemState", args, result, payload, true)) return 0;
+  XmlRpc::XmlRpcValue& publishers = payload[0];
+  for (int i = 0; i < publishers.size(); ++i) {
+    if (static_cast<std::string>(publishers[i][0]) == topic) return publishers[i][1].size();
+  }
+  return 0;
+}
+
+// Everything received on a topic, in arrival order. The constructor waits
+// (up to 5 s) until the subscription is connected to every publisher the
+// master lists, so that a message the test provokes next is not lost to a
+// connection still being made: /rosout's connection to the node under test
+// once came too late for a log line sent a frame after a reconfiguration.
 template <class M>
 class Recorder {
  public:
@@ -52,7 +69,13 @@ class Recorder {
       : sub_(nh.subscribe<M>(topic, 100, [this](const boost::shared_ptr<const M>& m) {
           std::lock_guard<std::mutex> lock(mutex_);
           messages_.push_back(m);
-        })) {}
+        })) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+    while (ros::ok() && ros::WallTime::now() < end &&
+           static_cast<int>(sub_.getNumPublishers()) < publishersOf(sub_.getTopic())) {
+      ros::WallDuration(0.01).sleep();
+    }
+  }
 
   std::vector<boost::shared_ptr<const M>> messages() const {
     std::lock_guard<std::mutex> lock(mutex_);
