@@ -119,6 +119,9 @@ class FeatureCache {
     return *kept_[i];
   }
 
+  // RISAS, ORB or ORB-distinct, as the summary names the features.
+  const std::string& name() const { return features_name_; }
+
   // One chain is done with frame i; the last one's release drops them.
   void release(size_t i) {
     if (--uses_[i] == 0) kept_[i].reset();
@@ -137,7 +140,7 @@ class FeatureCache {
 // What every chain of one run shares: the recording, its features and the
 // options that say how to track and score.
 struct Run {
-  std::string features_name, tum;
+  std::string tum;
   const risas::TumSequence* sequence = nullptr;
   const risas::RisasParams* params = nullptr;
   FeatureCache* features = nullptr;
@@ -200,7 +203,7 @@ std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain,
     if (k > 0) continue;
     if (write_frames) risas::writeTextFile(frames_csv_path, frames_csv.str(), "frame table");
     if (!out.empty()) risas::writeTumTrajectory(out, trajectory);
-    std::cout << run.features_name << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
+    std::cout << run.features->name() << " odometry: " << odometry.frames() << " frames, " << odometry.lostFrames()
               << " not tracked, " << odometry.recoveries() << " recoveries, " << odometry.keyframes() << " keyframes"
               << (out.empty() ? "" : "; trajectory written to " + out) << "\n";
     if (!run.scored) {
@@ -296,7 +299,6 @@ int main(int argc, char** argv) {
     const std::vector<int> starts = args.getIntList("start", "0", 0, 100000000);
     const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"));
     Run run;
-    run.features_name = features_name;
     run.tum = args.get("tum");
     run.sequence = &sequence;
     run.params = &params;
