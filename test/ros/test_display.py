@@ -89,8 +89,9 @@ class DemoWindows(unittest.TestCase):
         # Debian 12's rviz 1.14 aborts now and then while it sets up OpenGL
         # (glibc's "corrupted size vs. prev_size" after its "Forcing OpenGl
         # version 0.", before it creates a display or subscribes to
-        # anything; 1 of 61 starts on this machine). Then the demo is started once
-        # more, and what happened goes to stderr.
+        # anything; 1 of 49 starts here, docs/ci.md). Then the demo starts
+        # once more, and the first start's output goes to stderr. A crash
+        # of risas's making would come again and fail the test.
         if cls.rviz is None and RVIZ_DIED.search(cls.read_output()):
             sys.stderr.write("rviz died before its window appeared; the demo starts again:\n" + cls.read_output())
             cls.stop_demo()
