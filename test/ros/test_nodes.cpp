@@ -57,6 +57,17 @@ int publishersOf(const std::string& topic) {
   return 0;
 }
 
+// Waits until `done()` holds, for at most `seconds` of wall time; whether it
+// holds at the end.
+bool waitUntil(const std::function<bool()>& done, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (done()) return true;
+    ros::WallDuration(0.01).sleep();
+  }
+  return done();
+}
+
 // Everything received on a topic, in arrival order. The constructor waits
 // (up to 5 s) until the subscription is connected to every publisher the
 // master lists, so that a message the test provokes next is not lost to a
@@ -70,11 +81,7 @@ class Recorder {
           std::lock_guard<std::mutex> lock(mutex_);
           messages_.push_back(m);
         })) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
-    while (ros::ok() && ros::WallTime::now() < end &&
-           static_cast<int>(sub_.getNumPublishers()) < publishersOf(sub_.getTopic())) {
-      ros::WallDuration(0.01).sleep();
-    }
+    waitUntil([this] { return static_cast<int>(sub_.getNumPublishers()) >= publishersOf(sub_.getTopic()); }, 5.0);
   }
 
   std::vector<boost::shared_ptr<const M>> messages() const {
@@ -84,12 +91,7 @@ class Recorder {
   // Waits until `predicate` holds for the messages so far.
   bool waitFor(const std::function<bool(const std::vector<boost::shared_ptr<const M>>&)>& predicate,
                double seconds) const {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      if (predicate(messages())) return true;
-      ros::WallDuration(0.05).sleep();
-    }
-    return predicate(messages());
+    return waitUntil([&] { return predicate(messages()); }, seconds);
   }
   bool waitForCount(size_t n, double seconds) const {
     return waitFor([n](const auto& m) { return m.size() >= n; }, seconds);
@@ -622,11 +624,8 @@ class BadInput : public ::testing::Test {
 };
 
 TEST_F(BadInput, EachBadFrameIsSkippedWithItsOwnErrorAndGoodFramesStillComeThrough) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
-  while ((rgb.getNumSubscribers() == 0 || depth.getNumSubscribers() == 0 || info.getNumSubscribers() == 0) &&
-         ros::WallTime::now() < end) {
-    ros::WallDuration(0.1).sleep();
-  }
+  waitUntil([&] { return rgb.getNumSubscribers() > 0 && depth.getNumSubscribers() > 0 && info.getNumSubscribers() > 0; },
+            30.0);
   ASSERT_GT(info.getNumSubscribers(), 0u) << "risas never subscribed to its inputs";
 
   send(goodFrame(1.0));
