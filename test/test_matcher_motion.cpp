@@ -145,6 +145,33 @@ TEST(Motion, IsDeterministicForASeed) {
   EXPECT_EQ(a.inliers, b.inliers);
 }
 
+// The inlier count is written in scalars for speed (motion.cpp); it must
+// give what Eigen's (T * p - q).squaredNorm() gives, to the bit: the same
+// flags at the threshold's edge and the same sum of squares, hence rmse.
+TEST(Motion, InliersAndRmseAreEigensResidualsUnderTheFittedMotionToTheBit) {
+  const MotionCase c = makeCase(300, 0.2, 0.012, 6);  // noise that puts many matches near 3 cm
+  const MotionParams params;
+  const MotionEstimate m = estimateRigidMotion(c.query, c.train, c.matches, params);
+  ASSERT_TRUE(m.valid);
+  int count = 0, at_the_edge = 0;
+  double sum_sq = 0.0;
+  for (size_t i = 0; i < c.matches.size(); ++i) {
+    const cv::Point3f& q = c.query[i];
+    const cv::Point3f& t = c.train[i];
+    const double e = (m.train_T_query * Eigen::Vector3d(q.x, q.y, q.z) - Eigen::Vector3d(t.x, t.y, t.z)).squaredNorm();
+    const bool in = e <= params.inlier_threshold * params.inlier_threshold;
+    EXPECT_EQ(m.inliers[i], in) << "match " << i;
+    if (std::abs(std::sqrt(e) - params.inlier_threshold) < 0.005) ++at_the_edge;
+    if (in) {
+      ++count;
+      sum_sq += e;
+    }
+  }
+  EXPECT_GT(at_the_edge, 20);  // the case tests the edge, not only clear inliers
+  EXPECT_EQ(m.num_inliers, count);
+  EXPECT_EQ(m.rmse, std::sqrt(sum_sq / count));  // exact, not near
+}
+
 TEST(Motion, TooFewOrInconsistentMatchesGiveNoMotion) {
   MotionCase c = makeCase(5, 0.0, 0.0, 4);
   EXPECT_FALSE(estimateRigidMotion(c.query, c.train, c.matches).valid);  // fewer than min_inliers

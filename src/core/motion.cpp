@@ -46,12 +46,27 @@ bool degenerate(const Points& p) {
   return a.cross(b).norm() < 1e-4;  // twice the area, m^2: a 1 cm x 1 cm triangle
 }
 
+// The matches within threshold of T's prediction; their flags and sum of
+// squared errors when asked. RANSAC runs this once per sample, so it is
+// written in scalars: `(T * p - q).squaredNorm()` forms Eigen's 4x4
+// homogeneous product through expression objects that sanitized and
+// unoptimised builds do not inline (two thirds of risas_fit_intrinsics's
+// time under ASan; docs/ci.md). Each term is the one Eigen forms, summed in
+// the same order (row by row ((R0 x + R1 y) + R2 z) + t, its product with
+// (x, y, z, 1)), so the result is the same to the bit, which
+// test_matcher_motion.cpp holds.
 int countInliers(const Eigen::Isometry3d& T, const Points& src, const Points& dst, double threshold,
                  std::vector<char>* inliers, double* sum_sq) {
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
   int count = 0;
   double sq = 0.0;
   for (Eigen::Index i = 0; i < src.cols(); ++i) {
-    const double e = (T * src.col(i) - dst.col(i)).squaredNorm();
+    const double x = src(0, i), y = src(1, i), z = src(2, i);
+    const double dx = R(0, 0) * x + R(0, 1) * y + R(0, 2) * z + t(0) - dst(0, i);
+    const double dy = R(1, 0) * x + R(1, 1) * y + R(1, 2) * z + t(1) - dst(1, i);
+    const double dz = R(2, 0) * x + R(2, 1) * y + R(2, 2) * z + t(2) - dst(2, i);
+    const double e = dx * dx + dy * dy + dz * dz;
     const bool in = e <= threshold * threshold;
     if (inliers) (*inliers)[static_cast<size_t>(i)] = in;
     if (in) {
