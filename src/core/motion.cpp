@@ -49,12 +49,12 @@ bool degenerate(const Points& p) {
 // The matches within threshold of T's prediction; their flags and sum of
 // squared errors when asked. RANSAC runs this once per sample, so it is
 // written in scalars: `(T * p - q).squaredNorm()` forms Eigen's 4x4
-// homogeneous product through expression objects that sanitized and
-// unoptimised builds do not inline (two thirds of risas_fit_intrinsics's
-// time under ASan; docs/ci.md). Each term is the one Eigen forms, summed in
-// the same order (row by row ((R0 x + R1 y) + R2 z) + t, its product with
-// (x, y, z, 1)), so the result is the same to the bit, which
-// test_matcher_motion.cpp holds.
+// homogeneous product through expression objects that the sanitized build
+// does not inline (two thirds of risas_fit_intrinsics's time under ASan;
+// docs/ci.md). Each term is the one Eigen forms, summed in the same order
+// (row by row ((R0 x + R1 y) + R2 z) + t, its product with (x, y, z, 1)),
+// so the result is the same to the bit, which test_matcher_motion.cpp
+// holds.
 int countInliers(const Eigen::Isometry3d& T, const Points& src, const Points& dst, double threshold,
                  std::vector<char>* inliers, double* sum_sq) {
   const Eigen::Matrix3d R = T.linear();
