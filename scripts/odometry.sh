@@ -3,7 +3,7 @@
 # over the three TUM-layout recordings, ATE and RPE, and the plots; then
 # the tables of "Where the keyframes fall" for fr1_xyz and the kitchen (a
 # chain of keyframes from each of several starting frames, at 30, 15 and
-# 10 Hz). Usage:
+# 10 Hz), and the covariance checks over the same chains. Usage:
 #   scripts/odometry.sh [TUM_ROOT] [OUT_DIR]
 # (defaults: ../shared/data/tum next to the repository, build/odometry).
 # About eight minutes on 2 cores, seven of them the chains.
@@ -53,18 +53,20 @@ done
 
 # The chains of "Where the keyframes fall": at 30 Hz one from each of five
 # starting frames; every second frame from 0 and 1; every third from 0, 1
-# and 2. A cell is the mean over the chains of each chain's mean ATE, and
-# the chains' range.
+# and 2. A cell of NAME_chains.md is the mean over the chains of each
+# chain's mean ATE, and the chains' range; NAME_chains_covariance.md has
+# the covariance checks of "The pose covariance" and "The twist" over the
+# same chains (each chain's first seed): the mean and range of the
+# position's and the rotation's mean |e|^2 / mean sigma^2.
+header="| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
 for recording in "${recordings[@]}"; do
   read -r name folder fx fy cx cy starts30 <<< "$recording"
   [ "$starts30" = - ] && continue
-  table="$out/${name}_chains.md"
-  {
-    echo "| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
-    echo "|---|---|---|---|"
-  } > "$table"
+  table="$out/${name}_chains.md" covariances="$out/${name}_chains_covariance.md"
+  printf '%s\n|---|---|---|---|\n' "$header" > "$table"
+  drift_rows=() motion_rows=()
   for run in "${runs[@]}"; do
-    row="| $run |"
+    row="| $run |" drift_row="| $run |" motion_row="| $run |"
     for chains in "1 $starts30" "2 0,1" "3 0,1,2"; do
       read -r step starts <<< "$chains"
       log="$out/${name}_chains_${run}_step${step}.log"
@@ -72,8 +74,24 @@ for recording in "${recordings[@]}"; do
       track "$run" "$tum/$folder" "$fx" "$fy" "$cx" "$cy" --step "$step" --start "$starts" \
         --out "$out/${name}_chains_${run}_step${step}.txt" | tee "$log"
       row+=" $(sed -nE 's/^ATE RMSE over .* chains .*: mean ([0-9.]+) m, from ([0-9.]+) to ([0-9.]+) m$/\1 m (\2–\3)/p' "$log") |"
+      # "position 1.03 (0.60–1.21), rotation 4.26 (3.44–5.17)"
+      ratios='s/.*sigma\^2 mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+); rotation mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+)$/position \1 (\2–\3), rotation \4 (\5–\6)/p'
+      drift_row+=" $(grep '^Covariance against the drift over ' "$log" | sed -nE "$ratios") |"
+      motion_row+=" $(grep "^Frame-to-frame motion's covariance (the twist's) over " "$log" | sed -nE "$ratios") |"
     done
     echo "$row" >> "$table"
+    drift_rows+=("$drift_row") motion_rows+=("$motion_row")
   done
-  cat "$table"
+  {
+    echo "The pose's covariance against the drift from the first tracked pose:"
+    echo
+    printf '%s\n|---|---|---|---|\n' "$header"
+    printf '%s\n' "${drift_rows[@]}"
+    echo
+    echo "The frame-to-frame motion's covariance (the twist's) against the truth's motion:"
+    echo
+    printf '%s\n|---|---|---|---|\n' "$header"
+    printf '%s\n' "${motion_rows[@]}"
+  } > "$covariances"
+  cat "$table" "$covariances"
 done

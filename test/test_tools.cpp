@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
 #include <cstdlib>
 #include <filesystem>
@@ -282,6 +283,9 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
                              " --frames " + file("c.csv"));
   ASSERT_EQ(chains.exit_code, 0) << chains.output;
   std::vector<double> chain_means;
+  // Each chain's covariance checks (drift, then frame to frame; position,
+  // then rotation), as printed with two decimals.
+  std::vector<std::array<double, 4>> checks;
   for (int start = 0; start < 3; ++start) {
     const std::string header = "Chain from frame " + std::to_string(start) + ", step 1:\n";
     const size_t at = chains.output.find(header);
@@ -290,6 +294,11 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
     EXPECT_EQ(report.rfind("RISAS odometry: " + std::to_string(5 - start) + " frames, 1 not tracked", 0), 0u)
         << report;
     chain_means.push_back(numberAfter(report, "ATE RMSE over 2 RANSAC seeds: mean "));
+    const std::string drift = report.substr(report.find("Covariance against the drift from the first tracked pose"));
+    const std::string motion = report.substr(report.find("Frame-to-frame motion's covariance (the twist's) against"));
+    checks.push_back({numberAfter(drift, "mean sigma^2 "), numberAfter(drift, "; rotation "),
+                      numberAfter(motion, "mean sigma^2 "), numberAfter(motion, "; rotation ")});
+    for (double ratio : checks.back()) EXPECT_GE(ratio, 0.0) << report;
   }
   // The last chain as a run from its start alone reports it.
   const ToolRun alone = run(common + " --tum " + lost + " --start 2 --ransac-seeds 2 --out " + file("alone.txt"));
@@ -308,6 +317,25 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
                            "seeds: mean ";
   EXPECT_NEAR(numberAfter(chains.output, over), (chain_means[0] + chain_means[1] + chain_means[2]) / 3.0, 1e-4)
       << chains.output;
+  // The covariance checks over the chains: each ratio's mean and range over
+  // the chains' (within two roundings to two decimals: theirs and its own).
+  const std::string over_chains = " over 3 chains, each chain's first seed: position mean |e|^2 / mean sigma^2 mean ";
+  const std::array<std::string, 2> summaries = {"Covariance against the drift" + over_chains,
+                                                "Frame-to-frame motion's covariance (the twist's)" + over_chains};
+  for (size_t s = 0; s < summaries.size(); ++s) {
+    const size_t at = chains.output.find(summaries[s]);
+    ASSERT_NE(at, std::string::npos) << summaries[s] << "\n" << chains.output;
+    const std::string summary = chains.output.substr(at + summaries[s].size() - std::string("mean ").size());
+    for (size_t k = 0; k < 2; ++k) {
+      const std::string figure = k == 0 ? summary : summary.substr(summary.find("; rotation ") + 11);
+      std::vector<double> per_chain;
+      for (const std::array<double, 4>& c : checks) per_chain.push_back(c[2 * s + k]);
+      const auto [lowest, highest] = std::minmax_element(per_chain.begin(), per_chain.end());
+      EXPECT_NEAR(numberAfter(figure, "mean "), (per_chain[0] + per_chain[1] + per_chain[2]) / 3.0, 0.0101) << figure;
+      EXPECT_NEAR(numberAfter(figure, ", from "), *lowest, 0.0101) << figure;
+      EXPECT_NEAR(numberAfter(figure, " to "), *highest, 0.0101) << figure;
+    }
+  }
   // The trajectory and the frame table written are the first chain's.
   EXPECT_EQ(readTumTrajectory(file("c.txt")).size(), 5u);
   std::ifstream csv(file("c.csv"));
@@ -320,6 +348,9 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
       << r.output;
   EXPECT_NE(r.output.find("ATE RMSE over 1 of 2 chains (step 2, from frames 0, 1), each chain's mean over 1 RANSAC "
                           "seed: mean "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("Covariance against the drift over 1 of 2 chains, each chain's first seed: "),
             std::string::npos)
       << r.output;
   // A start past the recording, a step of 0 or a start given twice: one line.

@@ -64,24 +64,28 @@ void printConsistency(const std::string& what, const std::string& counted,
 }
 
 // The first seed's reported covariance against its drift, over the tracked
-// frames that have ground truth (a lost frame's held pose is not measured).
-void printCovarianceConsistency(const risas::eval::AssociatedTrajectory& tracked,
-                                const std::vector<Eigen::Matrix<double, 6, 6>>& covariances) {
-  if (tracked.estimate.size() < 2) return;
+// frames that have ground truth (a lost frame's held pose is not measured);
+// printed and returned, none when fewer than 2 poses have it.
+std::optional<risas::eval::CovarianceConsistency> printCovarianceConsistency(
+    const risas::eval::AssociatedTrajectory& tracked, const std::vector<Eigen::Matrix<double, 6, 6>>& covariances) {
+  if (tracked.estimate.size() < 2) return std::nullopt;
   std::vector<Eigen::Matrix<double, 6, 6>> associated;
   for (size_t i : tracked.estimate_index) associated.push_back(covariances[i]);
+  const risas::eval::CovarianceConsistency c = risas::eval::covarianceConsistency(tracked, associated);
   printConsistency("Covariance against the drift from the first tracked pose",
-                   "poses, no alignment; 1 is consistent, above 1 overconfident",
-                   risas::eval::covarianceConsistency(tracked, associated));
+                   "poses, no alignment; 1 is consistent, above 1 overconfident", c);
+  return c;
 }
 
 // The first seed's frame-to-frame motions (what the ROS node's twist is
-// made of) against the truth's between the same frames.
-void printMotionConsistency(const risas::eval::AssociatedTrajectory& all_frames,
-                            const std::vector<risas::eval::FrameMotion>& motions) {
+// made of) against the truth's between the same frames; printed and
+// returned, none when no motion has the truth's.
+std::optional<risas::eval::CovarianceConsistency> printMotionConsistency(
+    const risas::eval::AssociatedTrajectory& all_frames, const std::vector<risas::eval::FrameMotion>& motions) {
   const risas::eval::CovarianceConsistency c = risas::eval::motionConsistency(all_frames, motions);
-  if (c.poses == 0) return;
+  if (c.poses == 0) return std::nullopt;
   printConsistency("Frame-to-frame motion's covariance (the twist's) against the truth's motion", "motions", c);
+  return c;
 }
 
 double mean(const std::vector<double>& values) {
@@ -149,15 +153,23 @@ struct Run {
   int seeds = 1, delta = 1;
 };
 
+// What one chain reports: each seed's ATE RMSE (none when the chain cannot
+// be scored), and its first seed's covariance checks where they could be
+// made.
+struct ChainResult {
+  std::vector<double> ates;
+  std::optional<risas::eval::CovarianceConsistency> drift, motion;
+};
+
 // The chain of frames `chain` (indices into the sequence) tracked once per
 // RANSAC seed, seeded motion.seed + k. Unless `out` (`frames_csv_path`) is
 // empty, the first seed's trajectory (per-frame table) is written there. Prints the
 // first seed's summary, ATE, RPE and covariance checks, and the spread over
-// the seeds; returns each seed's ATE RMSE, none when the chain cannot be
-// scored.
-std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain, const std::string& out,
-                               const std::string& frames_csv_path) {
-  std::vector<double> ates;
+// the seeds, and returns them.
+ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const std::string& out,
+                       const std::string& frames_csv_path) {
+  ChainResult result;
+  std::vector<double>& ates = result.ates;
   const int runs = run.scored ? run.seeds : 1;  // without a ground truth the other seeds would score nothing
   for (int k = 0; k < runs; ++k) {
     risas::MotionParams motion = run.params->motion;
@@ -225,8 +237,8 @@ std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain,
                 << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
                 << e.rpe_pairs << " pairs\n";
     }
-    printCovarianceConsistency(risas::eval::associate(tracked, run.truth), tracked_covariances);
-    printMotionConsistency(all_frames, motions);
+    result.drift = printCovarianceConsistency(risas::eval::associate(tracked, run.truth), tracked_covariances);
+    result.motion = printMotionConsistency(all_frames, motions);
   }
   if (!ates.empty() && run.seeds > 1) {
     // One seed is one draw: where inliers are few, which keyframe poses
@@ -237,7 +249,40 @@ std::vector<double> trackChain(const Run& run, const std::vector<size_t>& chain,
               << mean(ates) << " m, median " << risas::eval::median(ates) << " m, from " << *lowest << " to "
               << *highest << " m\n";
   }
-  return ates;
+  return result;
+}
+
+// "mean 0.0295 m, from 0.0267 to 0.0346 m": values' mean and range, each
+// number with `precision` decimals and followed by `unit`.
+std::string meanAndRange(const std::vector<double>& values, int precision, const std::string& unit) {
+  const auto [lowest, highest] = std::minmax_element(values.begin(), values.end());
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(precision) << "mean " << mean(values) << unit << ", from " << *lowest
+       << " to " << *highest << unit;
+  return text.str();
+}
+
+// "over 5 chains" or, where some chain had no figure, "over 4 of 5 chains".
+std::string overChains(size_t with_figure, size_t chains) {
+  return "over " + (with_figure < chains ? std::to_string(with_figure) + " of " : "") + std::to_string(chains) +
+         " chains";
+}
+
+// One covariance check over the chains (`what`): the mean and range of the
+// chains' position and rotation ratios, each chain's first seed's, so that
+// a user sees whether one chain's figure holds where the keyframes fall
+// elsewhere (docs/odometry.md).
+void printChainsConsistency(const std::string& what, const std::vector<risas::eval::CovarianceConsistency>& checks,
+                            size_t chains) {
+  if (checks.empty()) return;
+  std::vector<double> position, rotation;
+  for (const risas::eval::CovarianceConsistency& c : checks) {
+    position.push_back(c.position_ratio);
+    rotation.push_back(c.rotation_ratio);
+  }
+  std::cout << what << " " << overChains(checks.size(), chains)
+            << ", each chain's first seed: position mean |e|^2 / mean sigma^2 " << meanAndRange(position, 2, "")
+            << "; rotation " << meanAndRange(rotation, 2, "") << "\n";
 }
 
 // "0, 7, 14" for a list of starting frames.
@@ -281,8 +326,9 @@ int main(int argc, char** argv) {
         "the trajectory written is the first seed's, and the ATE's mean, median and range over the N follow.\n"
         "--step N tracks frames S, S + N, S + 2N, ... (S from --start): the camera at a lower rate. Where the\n"
         "keyframes fall moves the ATE (docs/odometry.md): with several starts (--start 0,7,14 or, with\n"
-        "--step 3, --start 0,1,2) each start is a chain of its own, reported in turn, and the mean over the\n"
-        "chains of each chain's mean ATE follows; --out and --frames hold the first chain's.\n"
+        "--step 3, --start 0,1,2) each start is a chain of its own, reported in turn, and the mean and range\n"
+        "over the chains of each chain's mean ATE and of its covariance checks follow; --out and --frames hold\n"
+        "the first chain's.\n"
         "Plot it with scripts/plot_trajectory.py GT.txt T.txt [...] --out P.png.",
         options);
     cv::setNumThreads(1);
@@ -327,20 +373,23 @@ int main(int argc, char** argv) {
     run.features = &features;
 
     std::vector<double> chain_ates;  // each scored chain's mean over the seeds
+    std::vector<risas::eval::CovarianceConsistency> drifts, motions;  // each chain's first seed's, where made
     for (size_t c = 0; c < chains.size(); ++c) {
       if (chains.size() > 1) std::cout << "Chain from frame " << starts[c] << ", step " << step << ":\n";
       const bool first = c == 0;
-      const std::vector<double> ates =
-          trackChain(run, chains[c], first ? out : "", first ? args.get("frames", "") : "");
-      if (!ates.empty()) chain_ates.push_back(mean(ates));
+      const ChainResult result = trackChain(run, chains[c], first ? out : "", first ? args.get("frames", "") : "");
+      if (!result.ates.empty()) chain_ates.push_back(mean(result.ates));
+      if (result.drift) drifts.push_back(*result.drift);
+      if (result.motion) motions.push_back(*result.motion);
     }
     if (chains.size() > 1 && !chain_ates.empty()) {
-      const auto [lowest, highest] = std::minmax_element(chain_ates.begin(), chain_ates.end());
-      std::cout << std::fixed << std::setprecision(4) << "ATE RMSE over "
-                << (chain_ates.size() < chains.size() ? std::to_string(chain_ates.size()) + " of " : "")
-                << chains.size() << " chains (step " << step << ", from frames " << joined(starts)
-                << "), each chain's mean over " << run.seeds << " RANSAC seed" << (run.seeds > 1 ? "s" : "")
-                << ": mean " << mean(chain_ates) << " m, from " << *lowest << " to " << *highest << " m\n";
+      std::cout << "ATE RMSE " << overChains(chain_ates.size(), chains.size()) << " (step " << step
+                << ", from frames " << joined(starts) << "), each chain's mean over " << run.seeds << " RANSAC seed"
+                << (run.seeds > 1 ? "s" : "") << ": " << meanAndRange(chain_ates, 4, " m") << "\n";
+    }
+    if (chains.size() > 1) {
+      printChainsConsistency("Covariance against the drift", drifts, chains.size());
+      printChainsConsistency("Frame-to-frame motion's covariance (the twist's)", motions, chains.size());
     }
     return 0;
   });
