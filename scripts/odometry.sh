@@ -59,6 +59,9 @@ done
 # same chains (each chain's first seed): the mean and range of the
 # position's and the rotation's mean |e|^2 / mean sigma^2.
 header="| features | 30 Hz, 5 starts | 15 Hz, 2 | 10 Hz, 3 |"
+# A check's line over the chains as a cell: "position 0.93 (0.60–1.21),
+# rotation 4.26 (3.44–5.17)".
+ratios='s/.*sigma\^2 mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+); rotation mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+)$/position \1 (\2–\3), rotation \4 (\5–\6)/p'
 for recording in "${recordings[@]}"; do
   read -r name folder fx fy cx cy starts30 <<< "$recording"
   [ "$starts30" = - ] && continue
@@ -74,10 +77,8 @@ for recording in "${recordings[@]}"; do
       track "$run" "$tum/$folder" "$fx" "$fy" "$cx" "$cy" --step "$step" --start "$starts" \
         --out "$out/${name}_chains_${run}_step${step}.txt" | tee "$log"
       row+=" $(sed -nE 's/^ATE RMSE over .* chains .*: mean ([0-9.]+) m, from ([0-9.]+) to ([0-9.]+) m$/\1 m (\2–\3)/p' "$log") |"
-      # "position 1.03 (0.60–1.21), rotation 4.26 (3.44–5.17)"
-      ratios='s/.*sigma\^2 mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+); rotation mean ([0-9.]+), from ([0-9.]+) to ([0-9.]+)$/position \1 (\2–\3), rotation \4 (\5–\6)/p'
-      drift_row+=" $(grep '^Covariance against the drift over ' "$log" | sed -nE "$ratios") |"
-      motion_row+=" $(grep "^Frame-to-frame motion's covariance (the twist's) over " "$log" | sed -nE "$ratios") |"
+      drift_row+=" $(sed -nE "/^Covariance against the drift over /$ratios" "$log") |"
+      motion_row+=" $(sed -nE "/^Frame-to-frame motion's covariance \(the twist's\) over /$ratios" "$log") |"
     done
     echo "$row" >> "$table"
     drift_rows+=("$drift_row") motion_rows+=("$motion_row")

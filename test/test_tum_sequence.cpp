@@ -87,6 +87,27 @@ TEST_F(Tum, PairsColourAndDepthByNearestStampAndTakesTheNearestPose) {
   EXPECT_EQ(leftOutOf(whole), "");
 }
 
+// A ground truth whose clock runs 0.1 s early: shifted by 0.1 s, its stamps
+// 9.9 .. 10.35 become 10.0 .. 10.45, so that each frame takes the pose
+// stamped 0.1 s before it and the last frame (10.40) has one too.
+TEST_F(Tum, TheTruthOffsetShiftsTheGroundTruthsStampsBeforeThePairing) {
+  const TumSequence s = readTumSequence(dir(), kTumMaxDifference, 0.1);
+  ASSERT_EQ(s.frames.size(), 4u);
+  EXPECT_EQ(s.without_pose, 0);
+  const std::vector<double> x = {-0.1, 0.0, 0.2, 0.3};  // frames 10.0, 10.1, 10.3, 10.4
+  for (size_t k = 0; k < x.size(); ++k) {
+    ASSERT_TRUE(s.frames[k].world_T_camera) << k;
+    EXPECT_NEAR(s.frames[k].world_T_camera->translation().x(), x[k], 1e-9) << k;
+  }
+  // Shifted the other way, the first frames lose theirs: 9.9 .. 10.35
+  // become 9.8 .. 10.25.
+  EXPECT_EQ(readTumSequence(dir(), kTumMaxDifference, -0.1).without_pose, 2);
+  for (double offset : {std::nan(""), HUGE_VAL}) {
+    EXPECT_EQ(errorOf([&] { readTumSequence(dir(), kTumMaxDifference, offset); }),
+              "the ground truth's offset for " + dir() + " is not a finite number of seconds");
+  }
+}
+
 TEST_F(Tum, AssociationTakesTheClosestStampsFirstAndEachOnce) {
   // 1.000 is closest to 1.004 and 1.010 to 1.011; 1.020 would also be
   // near 1.011 but that one is taken.

@@ -19,6 +19,7 @@
 namespace risas {
 
 constexpr double kTumDepthUnitsPerMetre = 5000.0;
+constexpr double kTumMaxDifference = 0.02;  // associate.py's tolerance, seconds
 
 struct TumFrame {
   double stamp = 0.0;        // the colour image's
@@ -71,11 +72,14 @@ void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>&
 // Reads the folder: colour and depth paired as the benchmark's associate.py
 // does (closest stamps first, each used once, |difference| < max_difference
 // seconds), each pair given the pose at the nearest ground-truth stamp if it
-// is within max_difference too. groundtruth.txt may be absent (no poses).
+// is within max_difference too, after truth_offset seconds are added to the
+// ground truth's stamps (a motion capture whose clock is off the camera's).
+// groundtruth.txt may be absent (no poses).
 // InputError naming the file and line for a missing rgb.txt or depth.txt, a
-// malformed or non-finite line, a listed image that does not exist, or no
-// pair at all.
-TumSequence readTumSequence(const std::string& dir, double max_difference = 0.02);
+// malformed or non-finite line, a listed image that does not exist, no
+// pair at all, or a truth_offset that is not finite.
+TumSequence readTumSequence(const std::string& dir, double max_difference = kTumMaxDifference,
+                            double truth_offset = 0.0);
 
 // The stamp pairs (index into a, index into b) associate.py would make:
 // candidates with |a - b| < max_difference, closest first, each index used

@@ -139,9 +139,13 @@ std::vector<std::pair<size_t, size_t>> associateStamps(const std::vector<double>
   return matches;
 }
 
-TumSequence readTumSequence(const std::string& dir_name, double max_difference) {
+TumSequence readTumSequence(const std::string& dir_name, double max_difference, double truth_offset) {
   const fs::path dir(dir_name);
   if (!fs::is_directory(dir)) throw InputError("no folder " + dir_name);
+  // A NaN among the stamps would break the sort's ordering below.
+  if (!std::isfinite(truth_offset)) {
+    throw InputError("the ground truth's offset for " + dir_name + " is not a finite number of seconds");
+  }
   const Listed rgb = readList(dir, "rgb.txt"), depth = readList(dir, "depth.txt");
 
   std::vector<double> pose_stamps;
@@ -149,7 +153,7 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference) 
   const fs::path gt = dir / "groundtruth.txt";
   if (fs::exists(gt)) {
     for (const StampedPose& p : readTumTrajectory(gt.string())) {
-      pose_stamps.push_back(p.stamp);
+      pose_stamps.push_back(p.stamp + truth_offset);
       poses.push_back(p.world_T_camera);
     }
   }

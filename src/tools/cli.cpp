@@ -220,8 +220,8 @@ void requireWritable(const std::string& path) {
   }
 }
 
-TumSequence readTumSequenceNoting(const char* tool, const std::string& dir) {
-  TumSequence sequence = readTumSequence(dir);
+TumSequence readTumSequenceNoting(const char* tool, const std::string& dir, double truth_offset) {
+  TumSequence sequence = readTumSequence(dir, kTumMaxDifference, truth_offset);
   const std::string left_out = leftOutOf(sequence);
   if (!left_out.empty()) std::cerr << tool << ": " << dir << ": " << left_out << ": left out\n";
   return sequence;

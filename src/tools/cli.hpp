@@ -86,10 +86,11 @@ void writeIntrinsicsFile(const std::string& path, const Intrinsics& K);
 // it before the work, not after.
 void requireWritable(const std::string& path);
 
-// The recording `dir` as readTumSequence reads it; what the association
-// left out (leftOutOf) printed as a note, "<tool>: <dir>: ...: left out",
-// on standard error.
-TumSequence readTumSequenceNoting(const char* tool, const std::string& dir);
+// The recording `dir` as readTumSequence reads it (its ground truth's
+// stamps shifted by truth_offset seconds); what the association left out
+// (leftOutOf) printed as a note, "<tool>: <dir>: ...: left out", on
+// standard error.
+TumSequence readTumSequenceNoting(const char* tool, const std::string& dir, double truth_offset = 0.0);
 
 // Makes the folder `dir` and its parents unless `dir` is a folder already;
 // InputError "cannot make folder D: <reason>" otherwise (a file in the way).

@@ -309,6 +309,10 @@ int main(int argc, char** argv) {
         {"start", "S[,S...]",
          "track from frame S (0 = the first; default 0); several starts track a chain of frames from each"},
         {"delta", "N", "RPE over frame pairs N apart in the chain, N x step of the camera's (default 1)"},
+        {"truth-offset", "S",
+         "seconds added to groundtruth.txt's stamps before each frame takes the nearest (within 0.02 s): for a "
+         "motion capture whose clock is off the camera's (default 0; TUM's evaluate_ate.py --offset shifts the "
+         "other file)"},
         {"max-frames", "N", "track at most N frames a chain"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
         risas::cli::paramsOption()};
@@ -317,7 +321,7 @@ int main(int argc, char** argv) {
         argc, argv,
         "risas_odometry --tum DIR --out T.txt --intrinsics K.txt | --fx F --fy F --cx C --cy C\n"
         "               [--features RISAS|ORB|ORB-distinct] [--params P.yml] [--frames F.csv] [--delta 1]\n"
-        "               [--step N] [--start S[,S...]] [--ransac-seeds N]\n"
+        "               [--step N] [--start S[,S...]] [--ransac-seeds N] [--truth-offset S]\n"
         "Frame-to-keyframe RGB-D odometry (risas::Odometry) over a TUM-layout sequence; writes the\n"
         "trajectory and, with groundtruth.txt, prints ATE RMSE (after a rigid alignment), RPE and how the\n"
         "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
@@ -343,7 +347,9 @@ int main(int argc, char** argv) {
     const int max_frames = args.getInt("max-frames", 100000000, 1, 100000000);
     const int step = args.getInt("step", 1, 1, 1000000);
     const std::vector<int> starts = args.getIntList("start", "0", 0, 100000000);
-    const risas::TumSequence sequence = risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"));
+    const double truth_offset = args.getDouble("truth-offset", 0.0);
+    const risas::TumSequence sequence =
+        risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"), truth_offset);
     Run run;
     run.tum = args.get("tum");
     run.sequence = &sequence;
@@ -352,7 +358,9 @@ int main(int argc, char** argv) {
     run.delta = args.getInt("delta", 1, 1, 1000000);
     const std::filesystem::path gt = std::filesystem::path(run.tum) / "groundtruth.txt";
     run.scored = std::filesystem::exists(gt);
+    if (!run.scored) args.refuse({"truth-offset"}, "without " + gt.string());
     if (run.scored) run.truth = risas::readTumTrajectory(gt.string());
+    for (risas::StampedPose& pose : run.truth) pose.stamp += truth_offset;  // as the sequence's poses
 
     // The chains: frames start, start + step, ... from each start.
     std::vector<std::vector<size_t>> chains;

@@ -24,7 +24,7 @@ struct AssociatedTrajectory {
   std::vector<size_t> estimate_index;  // of each pair's pose in the estimate given
 };
 AssociatedTrajectory associate(const std::vector<StampedPose>& estimate, const std::vector<StampedPose>& truth,
-                               double max_difference = 0.02);
+                               double max_difference = kTumMaxDifference);
 
 struct TrajectoryError {
   int poses = 0;                   // associated poses
