@@ -304,7 +304,7 @@ void fuzzTumFolder(Bytes& in) {
     std::filesystem::remove(gt);
   }
   const double tolerance = in.byte() % 8 ? 0.02 : in.number(0, 0.2);
-  const double truth_offset = in.byte() % 4 ? 0.0 : in.number(-0.1, 0.1);  // a few 5 ms steps either way
+  const double truth_offset = in.byte() % 4 ? 0.0 : in.number(-0.1, 0.1);  // up to 20 of the 5 ms steps, or not finite
   try {
     const risas::TumSequence s = risas::readTumSequence(dir.string(), tolerance, truth_offset);
     require(!s.frames.empty() && s.unmatched_rgb >= 0 && s.unmatched_depth >= 0, "frames and counts");
