@@ -77,6 +77,18 @@ class Tools : public ::testing::Test {
     }
     return tum;
   }
+  // A copy of the folder `tum` as `name` whose groundtruth.txt's clock runs
+  // `seconds` late: each pose stamped that much after its frame.
+  static fs::path lateTruth(const fs::path& tum, const std::string& name, double seconds) {
+    const fs::path late = dir / name;
+    fs::remove_all(late);
+    fs::copy(tum, late, fs::copy_options::recursive);
+    std::ifstream in(tum / "groundtruth.txt");
+    std::ofstream out(late / "groundtruth.txt");
+    std::string stamp, pose;
+    while (in >> stamp && std::getline(in, pose)) out << std::stod(stamp) + seconds << pose << "\n";
+    return late;
+  }
 };
 fs::path Tools::dir;
 
@@ -244,15 +256,7 @@ TEST_F(Tools, OdometryPairsTheFramesWithTheTruthShiftedByTheOffset) {
   const std::string common = "risas_odometry --intrinsics " + file("camera-intrinsics.txt") + " --out " + file("o.txt");
   // The camera swings out and back: rendered frames 1 2 3 2 1, stamps 1..5.
   const fs::path swing = tumFolder("swing_truth", {1, 2, 3, 2, 1});
-  const fs::path late = dir / "swing_truth_late";
-  fs::remove_all(late);
-  fs::copy(swing, late, fs::copy_options::recursive);
-  {
-    std::ifstream in(swing / "groundtruth.txt");
-    std::ofstream out(late / "groundtruth.txt");
-    std::string stamp, pose;
-    while (in >> stamp && std::getline(in, pose)) out << std::stod(stamp) + 1.0 << pose << "\n";
-  }
+  const fs::path late = lateTruth(swing, "swing_truth_late", 1.0);
   const ToolRun right = run(common + " --tum " + swing.string());
   const ToolRun wrong = run(common + " --tum " + late.string());
   const ToolRun offset = run(common + " --tum " + late.string() + " --truth-offset -1");
@@ -272,6 +276,47 @@ TEST_F(Tools, OdometryPairsTheFramesWithTheTruthShiftedByTheOffset) {
   const ToolRun typo = run(common + " --tum " + swing.string() + " --truth-offset 1s");
   EXPECT_EQ(typo.exit_code, 2) << typo.output;
   EXPECT_NE(typo.output.find("--truth-offset expects a number, got '1s'"), std::string::npos) << typo.output;
+}
+
+// The evaluation's pairs on a recording take the same offset: with the
+// late truth taken back, pairs.csv is the right truth's but for the time
+// each frame took.
+TEST_F(Tools, EvaluationPairsTheFramesWithTheTruthShiftedByTheOffset) {
+  const fs::path swing = tumFolder("swing_evaluated", {1, 2, 3});
+  const fs::path late = lateTruth(swing, "swing_evaluated_late", 1.0);
+  const std::string common = "risas_evaluate --intrinsics " + file("camera-intrinsics.txt") + " --methods RISAS --no-plots";
+  // pairs.csv's rows without the scene (the folder's name) and the
+  // ms_per_frame column (the 17th).
+  const auto rows = [](const std::string& folder) {
+    std::ifstream in(fs::path(folder) / "pairs.csv");
+    std::vector<std::string> kept;
+    for (std::string line; std::getline(in, line);) {
+      size_t from = 0;
+      for (int comma = 0; comma < 16 && from != std::string::npos; ++comma) from = line.find(',', from + 1);
+      const size_t to = from == std::string::npos ? from : line.find(',', from + 1);
+      const std::string timeless = to == std::string::npos ? line : line.substr(0, from) + line.substr(to);
+      kept.push_back(timeless.substr(timeless.find(',')));
+    }
+    return kept;
+  };
+  const ToolRun right = run(common + " --tum " + swing.string() + " --out " + file("eval_right"));
+  const ToolRun wrong = run(common + " --tum " + late.string() + " --out " + file("eval_late"));
+  const ToolRun offset =
+      run(common + " --tum " + late.string() + " --truth-offset -1 --out " + file("eval_offset"));
+  for (const ToolRun* r : {&right, &wrong, &offset}) ASSERT_EQ(r->exit_code, 0) << r->output;
+  const std::vector<std::string> expected = rows(file("eval_right"));
+  ASSERT_EQ(expected.size(), 3u);  // the header and pairs (1, 2), (2, 3)
+  EXPECT_EQ(expected[0].find("ms_per_frame"), std::string::npos) << expected[0];
+  EXPECT_EQ(rows(file("eval_offset")), expected);
+  // A second late, frame 1 has no pose: one pair, posed by the wrong truth.
+  EXPECT_EQ(rows(file("eval_late")).size(), 2u);
+  EXPECT_NE(wrong.output.find("1 of 3 frames have no ground-truth pose within 0.02 s: left out"), std::string::npos)
+      << wrong.output;
+  EXPECT_EQ(offset.output.find("left out"), std::string::npos) << offset.output;
+  const ToolRun refused = run(common + " --data " + dir.string() + " --truth-offset 1 --out " + file("eval_data"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_EQ(refused.output.rfind("risas_evaluate: --truth-offset does not apply with --data", 0), 0u)
+      << refused.output;
 }
 
 // --start and --step pick the frames a chain tracks, as a folder that keeps

@@ -43,8 +43,9 @@ std::vector<risas::eval::Pair> pairsFrom(const risas::cli::Args& args, const std
   std::vector<risas::eval::Pair> pairs;
   if (tum) {
     const std::vector<int> gaps = args.getIntList("gaps", "1", 1, 1000000);
-    pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root), gaps,
-                                      args.getInt("pair-stride", 1, 1, 1000000));
+    const double truth_offset = args.getDouble("truth-offset", 0.0);
+    pairs = risas::eval::listTumPairs(root, risas::cli::readTumSequenceNoting("risas_evaluate", root, truth_offset),
+                                      gaps, args.getInt("pair-stride", 1, 1, 1000000));
   } else {
     const std::vector<std::string> scenes = args.getList("scenes", "texture,geometry"),
                                    sequences = args.getList("sequences", all_sequences);
@@ -130,6 +131,9 @@ int main(int argc, char** argv) {
         {"tum", "DIR", "instead of --data: a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt)"},
         {"gaps", "LIST", "with --tum: frame gaps d of the pairs (i, i+d) (default: 1)"},
         {"pair-stride", "N", "with --tum: pairs start at every N-th frame (default: 1)"},
+        {"truth-offset", "S",
+         "with --tum: seconds added to groundtruth.txt's stamps before each frame takes the nearest, as "
+         "risas_odometry's (default: 0)"},
         {"out", "DIR", "output folder (default: evaluation)"},
         {"methods", "LIST", "methods to run (default: all of " + all_methods + ")"},
         {"scenes", "LIST", "scene types (default: texture,geometry)"},
@@ -149,8 +153,8 @@ int main(int argc, char** argv) {
         "               [--intrinsics K.txt | --fx F --fy F --cx C --cy C] [--ground-truth corrected|raw]\n"
         "               [--params P.yml] [--no-plots]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
-        "               [--pair-stride N] [--out DIR] [--methods M,...] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
-        "               [--params P.yml] [--no-plots]\n"
+        "               [--pair-stride N] [--truth-offset S] [--out DIR] [--methods M,...] [--ransac-seeds N]\n"
+        "               [--pose-refit umeyama|reprojection] [--params P.yml] [--no-plots]\n"
         "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"
         "agree within 5 cm under the ground truth; PR curves, PR-AUC, precision, recall and\n"
         "correct matches at ratio 0.8; the rigid motion RANSAC recovers from those matches and its\n"
@@ -177,7 +181,7 @@ int main(int argc, char** argv) {
     if (tum) {
       args.refuse({"scenes", "sequences", "ground-truth"}, "with --tum");
     } else {
-      args.refuse({"gaps", "pair-stride"}, "with --data");
+      args.refuse({"gaps", "pair-stride", "truth-offset"}, "with --data");
     }
     if (args.has("study")) args.refuse({"methods"}, "with --study: the study's methods are run");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
