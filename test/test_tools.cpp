@@ -279,8 +279,8 @@ TEST_F(Tools, OdometryPairsTheFramesWithTheTruthShiftedByTheOffset) {
 }
 
 // The evaluation's pairs on a recording take the same offset: with the
-// late truth taken back, pairs.csv is the right truth's but for the time
-// each frame took.
+// late truth taken back, pairs.csv is the right truth's but for the scene
+// (the folder's name) and the time each frame took.
 TEST_F(Tools, EvaluationPairsTheFramesWithTheTruthShiftedByTheOffset) {
   const fs::path swing = tumFolder("swing_evaluated", {1, 2, 3});
   const fs::path late = lateTruth(swing, "swing_evaluated_late", 1.0);
@@ -308,7 +308,7 @@ TEST_F(Tools, EvaluationPairsTheFramesWithTheTruthShiftedByTheOffset) {
   ASSERT_EQ(expected.size(), 3u);  // the header and pairs (1, 2), (2, 3)
   EXPECT_EQ(expected[0].find("ms_per_frame"), std::string::npos) << expected[0];
   EXPECT_EQ(rows(file("eval_offset")), expected);
-  // A second late, frame 1 has no pose: one pair, posed by the wrong truth.
+  // A second late, frame 1 has no pose: one pair is left.
   EXPECT_EQ(rows(file("eval_late")).size(), 2u);
   EXPECT_NE(wrong.output.find("1 of 3 frames have no ground-truth pose within 0.02 s: left out"), std::string::npos)
       << wrong.output;
