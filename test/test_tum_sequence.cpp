@@ -77,11 +77,17 @@ TEST_F(Tum, PairsColourAndDepthByNearestStampAndTakesTheNearestPose) {
   EXPECT_NEAR(s.frames[1].world_T_camera->translation().x(), 0.1, 1e-9);
   EXPECT_NEAR(s.frames[1].world_T_camera->translation().z(), 1.0, 1e-12);
   EXPECT_FALSE(s.frames[3].world_T_camera);
+  // The file's poses, all 46 in its order, for scoring a trajectory.
+  EXPECT_TRUE(s.has_ground_truth);
+  ASSERT_EQ(s.ground_truth.size(), 46u);
+  EXPECT_DOUBLE_EQ(s.ground_truth.front().stamp, 9.9);
+  EXPECT_NEAR(s.ground_truth.back().world_T_camera.translation().x(), 0.35, 1e-9);
   EXPECT_EQ(leftOutOf(s), "1 of 5 colour images have no depth image within 0.02 s; "
                           "1 of 4 frames have no ground-truth pose within 0.02 s");
   write("depth.txt", "# depth\n10.005000 depth/10.005000.png\n10.305000 depth/10.305000.png\n");
   fs::remove(dir_ / "groundtruth.txt");  // no ground truth: no frame lacks one
   EXPECT_EQ(leftOutOf(readTumSequence(dir(), 0.01)), "3 of 5 colour images have no depth image within 0.01 s");
+  EXPECT_TRUE(readTumSequence(dir()).ground_truth.empty());
   TumSequence whole;
   whole.frames.resize(3);
   EXPECT_EQ(leftOutOf(whole), "");
@@ -98,6 +104,13 @@ TEST_F(Tum, TheTruthOffsetShiftsTheGroundTruthsStampsBeforeThePairing) {
   for (size_t k = 0; k < x.size(); ++k) {
     ASSERT_TRUE(s.frames[k].world_T_camera) << k;
     EXPECT_NEAR(s.frames[k].world_T_camera->translation().x(), x[k], 1e-9) << k;
+  }
+  // The poses kept for scoring are shifted alike, each pose unchanged.
+  const TumSequence as_given = readTumSequence(dir());
+  ASSERT_EQ(s.ground_truth.size(), as_given.ground_truth.size());
+  for (size_t k = 0; k < s.ground_truth.size(); ++k) {
+    EXPECT_DOUBLE_EQ(s.ground_truth[k].stamp, as_given.ground_truth[k].stamp + 0.1) << k;
+    EXPECT_EQ(s.ground_truth[k].world_T_camera.matrix(), as_given.ground_truth[k].world_T_camera.matrix()) << k;
   }
   // Shifted the other way, the first frames lose theirs: 9.9 .. 10.35
   // become 9.8 .. 10.25.

@@ -30,12 +30,23 @@ struct TumFrame {
   std::optional<Eigen::Isometry3d> world_T_camera;
 };
 
+// A pose at a time stamp: one line of a TUM trajectory file.
+struct StampedPose {
+  double stamp;
+  Eigen::Isometry3d world_T_camera;
+};
+
 struct TumSequence {
   std::vector<TumFrame> frames;  // colour stamps ascending
   int unmatched_rgb = 0;         // colour images left without a depth image
   int unmatched_depth = 0;
   int without_pose = 0;          // frames with no ground truth near them
-  bool has_ground_truth = false;  // groundtruth.txt is there
+  // groundtruth.txt's poses in the file's order, the truth offset added to
+  // their stamps: what the frames' poses were taken from, for a tool that
+  // scores a trajectory against them (eval::associate), so that the file is
+  // read, and its stamps shifted, once.
+  std::vector<StampedPose> ground_truth;
+  bool has_ground_truth = false;  // groundtruth.txt has a pose
   double max_difference = 0.0;    // the association's tolerance, seconds
 };
 
@@ -56,12 +67,6 @@ struct TumImages {
 };
 TumImages readTumImages(const TumFrame& frame);
 RgbdFrame loadTumFrame(const TumFrame& frame, const Intrinsics& intrinsics);
-
-// A pose at a time stamp: one line of a TUM trajectory file.
-struct StampedPose {
-  double stamp;
-  Eigen::Isometry3d world_T_camera;
-};
 
 // A file of "timestamp tx ty tz qx qy qz qw" lines ('#' lines are
 // comments; quaternions are normalised): groundtruth.txt, or an estimate.

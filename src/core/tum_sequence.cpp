@@ -148,21 +148,16 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference, 
   }
   const Listed rgb = readList(dir, "rgb.txt"), depth = readList(dir, "depth.txt");
 
-  std::vector<double> pose_stamps;
-  std::vector<Eigen::Isometry3d> poses;
-  const fs::path gt = dir / "groundtruth.txt";
-  if (fs::exists(gt)) {
-    for (const StampedPose& p : readTumTrajectory(gt.string())) {
-      pose_stamps.push_back(p.stamp + truth_offset);
-      poses.push_back(p.world_T_camera);
-    }
-  }
-  std::vector<size_t> by_stamp(pose_stamps.size());
-  for (size_t k = 0; k < by_stamp.size(); ++k) by_stamp[k] = k;
-  std::sort(by_stamp.begin(), by_stamp.end(), [&](size_t x, size_t y) { return pose_stamps[x] < pose_stamps[y]; });
-
   TumSequence sequence;
-  sequence.has_ground_truth = !poses.empty();
+  const fs::path gt = dir / "groundtruth.txt";
+  if (fs::exists(gt)) sequence.ground_truth = readTumTrajectory(gt.string());
+  for (StampedPose& p : sequence.ground_truth) p.stamp += truth_offset;
+  const std::vector<StampedPose>& truth = sequence.ground_truth;
+  std::vector<size_t> by_stamp(truth.size());
+  for (size_t k = 0; k < by_stamp.size(); ++k) by_stamp[k] = k;
+  std::sort(by_stamp.begin(), by_stamp.end(), [&](size_t x, size_t y) { return truth[x].stamp < truth[y].stamp; });
+
+  sequence.has_ground_truth = !truth.empty();
   sequence.max_difference = max_difference;
   const auto pairs = associateStamps(rgb.stamps, depth.stamps, max_difference);
   sequence.unmatched_rgb = static_cast<int>(rgb.stamps.size() - pairs.size());
@@ -175,12 +170,12 @@ TumSequence readTumSequence(const std::string& dir_name, double max_difference, 
     f.depth_stamp = depth.stamps[j];
     // The nearest ground-truth stamp, on either side.
     auto it = std::lower_bound(by_stamp.begin(), by_stamp.end(), f.stamp,
-                               [&](size_t k, double v) { return pose_stamps[k] < v; });
+                               [&](size_t k, double v) { return truth[k].stamp < v; });
     double best = max_difference;
     for (auto c : {it, it == by_stamp.begin() ? it : it - 1}) {
       if (c == by_stamp.end()) continue;
-      const double d = std::abs(pose_stamps[*c] - f.stamp);
-      if (d < best) best = d, f.world_T_camera = poses[*c];
+      const double d = std::abs(truth[*c].stamp - f.stamp);
+      if (d < best) best = d, f.world_T_camera = truth[*c].world_T_camera;
     }
     sequence.without_pose += !f.world_T_camera;
     sequence.frames.push_back(std::move(f));

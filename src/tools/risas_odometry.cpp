@@ -30,6 +30,14 @@
 
 namespace {
 
+// The association's tolerance (associate.py's, kTumMaxDifference) as the
+// messages print it, in seconds.
+const std::string kToleranceText = [] {
+  std::ostringstream text;
+  text << risas::kTumMaxDifference;
+  return text.str();
+}();
+
 // ORB (1000 features, OpenCV's defaults) with each keypoint's 3D point from
 // the median depth of its 3x3 neighbourhood, as the evaluation takes it;
 // keypoints without depth are left out. one_per_point: the strongest of the
@@ -148,8 +156,7 @@ struct Run {
   const risas::TumSequence* sequence = nullptr;
   const risas::RisasParams* params = nullptr;
   FeatureCache* features = nullptr;
-  std::vector<risas::StampedPose> truth;
-  bool scored = false;  // groundtruth.txt is there
+  bool scored = false;  // groundtruth.txt is there: its poses are the sequence's ground_truth
   int seeds = 1, delta = 1;
 };
 
@@ -204,7 +211,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
       if (k == runs - 1) run.features->release(chain[j]);
     }
     const risas::eval::AssociatedTrajectory all_frames =
-        run.scored ? risas::eval::associate(trajectory, run.truth) : risas::eval::AssociatedTrajectory();
+        run.scored ? risas::eval::associate(trajectory, run.sequence->ground_truth) : risas::eval::AssociatedTrajectory();
     // The trajectory is the result; the score, which groundtruth.txt's
     // presence asks for, needs three frames with ground truth.
     const size_t with_truth = all_frames.estimate.size();
@@ -224,7 +231,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
       continue;
     }
     if (!scorable) {
-      std::cout << "Not scored: the ATE needs 3 frames with ground truth (within 0.02 s), " << with_truth
+      std::cout << "Not scored: the ATE needs 3 frames with ground truth (within " << kToleranceText << " s), " << with_truth
                 << " have it\n";
       continue;
     }
@@ -237,7 +244,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
                 << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
                 << e.rpe_pairs << " pairs\n";
     }
-    result.drift = printCovarianceConsistency(risas::eval::associate(tracked, run.truth), tracked_covariances);
+    result.drift = printCovarianceConsistency(risas::eval::associate(tracked, run.sequence->ground_truth), tracked_covariances);
     result.motion = printMotionConsistency(all_frames, motions);
   }
   if (!ates.empty() && run.seeds > 1) {
@@ -310,7 +317,8 @@ int main(int argc, char** argv) {
          "track from frame S (0 = the first; default 0); several starts track a chain of frames from each"},
         {"delta", "N", "RPE over frame pairs N apart in the chain, N x step of the camera's (default 1)"},
         {"truth-offset", "S",
-         "seconds added to groundtruth.txt's stamps before each frame takes the nearest (within 0.02 s): for a "
+         "seconds added to groundtruth.txt's stamps before each frame takes the nearest (within " + kToleranceText +
+             " s): for a "
          "motion capture whose clock is off the camera's (default 0; TUM's evaluate_ate.py --offset shifts the "
          "other file)"},
         {"max-frames", "N", "track at most N frames a chain"},
@@ -359,8 +367,6 @@ int main(int argc, char** argv) {
     const std::filesystem::path gt = std::filesystem::path(run.tum) / "groundtruth.txt";
     run.scored = std::filesystem::exists(gt);
     if (!run.scored) args.refuse({"truth-offset"}, "without " + gt.string());
-    if (run.scored) run.truth = risas::readTumTrajectory(gt.string());
-    for (risas::StampedPose& pose : run.truth) pose.stamp += truth_offset;  // as the sequence's poses
 
     // The chains: frames start, start + step, ... from each start.
     std::vector<std::vector<size_t>> chains;

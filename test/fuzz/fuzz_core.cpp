@@ -314,7 +314,16 @@ void fuzzTumFolder(Bytes& in) {
       require(std::isfinite(f.stamp) && std::abs(f.stamp - f.depth_stamp) < tolerance, "depth within the tolerance");
       require(std::filesystem::is_regular_file(f.rgb) && std::filesystem::is_regular_file(f.depth), "files exist");
       require(!f.world_T_camera || isRigid(*f.world_T_camera), "a frame's pose is a rigid motion");
+      // It is one of the ground truth's poses kept for scoring, stamped
+      // (the offset added) within the tolerance of the frame.
+      require(!f.world_T_camera || std::any_of(s.ground_truth.begin(), s.ground_truth.end(),
+                                               [&](const risas::StampedPose& p) {
+                                                 return std::abs(p.stamp - f.stamp) < tolerance &&
+                                                        p.world_T_camera.matrix() == f.world_T_camera->matrix();
+                                               }),
+              "a frame's pose is a ground-truth pose near its stamp");
     }
+    require(s.has_ground_truth == !s.ground_truth.empty(), "the ground truth is there exactly when it has a pose");
     const bool all_paired =
         s.unmatched_rgb == 0 && s.unmatched_depth == 0 && (!s.has_ground_truth || s.without_pose == 0);
     require(risas::leftOutOf(s).empty() == all_paired, "what is left out is said exactly when something is");
