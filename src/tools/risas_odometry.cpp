@@ -177,6 +177,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
                        const std::string& frames_csv_path) {
   ChainResult result;
   std::vector<double>& ates = result.ates;
+  const std::vector<risas::StampedPose>& truth = run.sequence->ground_truth;
   const int runs = run.scored ? run.seeds : 1;  // without a ground truth the other seeds would score nothing
   for (int k = 0; k < runs; ++k) {
     risas::MotionParams motion = run.params->motion;
@@ -211,7 +212,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
       if (k == runs - 1) run.features->release(chain[j]);
     }
     const risas::eval::AssociatedTrajectory all_frames =
-        run.scored ? risas::eval::associate(trajectory, run.sequence->ground_truth) : risas::eval::AssociatedTrajectory();
+        run.scored ? risas::eval::associate(trajectory, truth) : risas::eval::AssociatedTrajectory();
     // The trajectory is the result; the score, which groundtruth.txt's
     // presence asks for, needs three frames with ground truth.
     const size_t with_truth = all_frames.estimate.size();
@@ -231,8 +232,8 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
       continue;
     }
     if (!scorable) {
-      std::cout << "Not scored: the ATE needs 3 frames with ground truth (within " << kToleranceText << " s), " << with_truth
-                << " have it\n";
+      std::cout << "Not scored: the ATE needs 3 frames with ground truth (within " << kToleranceText << " s), "
+                << with_truth << " have it\n";
       continue;
     }
     std::cout << std::fixed << std::setprecision(4) << "ATE RMSE " << e.ate_rmse << " m (mean " << e.ate_mean
@@ -244,7 +245,7 @@ ChainResult trackChain(const Run& run, const std::vector<size_t>& chain, const s
                 << " m, rotation RMSE " << std::setprecision(3) << e.rpe_rotation_rmse_deg << " deg over "
                 << e.rpe_pairs << " pairs\n";
     }
-    result.drift = printCovarianceConsistency(risas::eval::associate(tracked, run.sequence->ground_truth), tracked_covariances);
+    result.drift = printCovarianceConsistency(risas::eval::associate(tracked, truth), tracked_covariances);
     result.motion = printMotionConsistency(all_frames, motions);
   }
   if (!ates.empty() && run.seeds > 1) {
@@ -318,9 +319,8 @@ int main(int argc, char** argv) {
         {"delta", "N", "RPE over frame pairs N apart in the chain, N x step of the camera's (default 1)"},
         {"truth-offset", "S",
          "seconds added to groundtruth.txt's stamps before each frame takes the nearest (within " + kToleranceText +
-             " s): for a "
-         "motion capture whose clock is off the camera's (default 0; TUM's evaluate_ate.py --offset shifts the "
-         "other file)"},
+             " s): for a motion capture whose clock is off the camera's (default 0; TUM's evaluate_ate.py --offset "
+             "shifts the other file)"},
         {"max-frames", "N", "track at most N frames a chain"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
         risas::cli::paramsOption()};
