@@ -284,7 +284,8 @@ TEST_F(Tools, OdometryPairsTheFramesWithTheTruthShiftedByTheOffset) {
 TEST_F(Tools, EvaluationPairsTheFramesWithTheTruthShiftedByTheOffset) {
   const fs::path swing = tumFolder("swing_evaluated", {1, 2, 3});
   const fs::path late = lateTruth(swing, "swing_evaluated_late", 1.0);
-  const std::string common = "risas_evaluate --intrinsics " + file("camera-intrinsics.txt") + " --methods RISAS --no-plots";
+  const std::string common =
+      "risas_evaluate --intrinsics " + file("camera-intrinsics.txt") + " --methods RISAS --no-plots";
   // pairs.csv's rows without the scene (the folder's name) and the
   // ms_per_frame column (the 17th).
   const auto rows = [](const std::string& folder) {
@@ -381,7 +382,8 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
     const size_t drift = report.find("Covariance against the drift from the first tracked pose");
     const size_t motion = report.find("Frame-to-frame motion's covariance (the twist's) against");
     ASSERT_TRUE(drift != std::string::npos && motion != std::string::npos) << report;
-    checks.push_back({numberAfter(report.substr(drift), "mean sigma^2 "), numberAfter(report.substr(drift), "; rotation "),
+    checks.push_back({numberAfter(report.substr(drift), "mean sigma^2 "),
+                      numberAfter(report.substr(drift), "; rotation "),
                       numberAfter(report.substr(motion), "mean sigma^2 "),
                       numberAfter(report.substr(motion), "; rotation ")});
     for (double ratio : checks.back()) EXPECT_GE(ratio, 0.0) << report;  // -1: not printed
@@ -413,7 +415,8 @@ TEST_F(Tools, OdometryTracksAChainFromEachStartAtItsStep) {
     ASSERT_NE(at, std::string::npos) << summaries[s] << "\n" << chains.output;
     const std::string summary = chains.output.substr(at + summaries[s].size() - std::string("mean ").size());
     for (size_t k = 0; k < 2; ++k) {
-      const std::string figure = k == 0 ? summary : summary.substr(summary.find("; rotation ") + 11);
+      const std::string rotation = "; rotation ";
+      const std::string figure = k == 0 ? summary : summary.substr(summary.find(rotation) + rotation.size());
       std::vector<double> per_chain;
       for (const std::array<double, 4>& c : checks) per_chain.push_back(c[2 * s + k]);
       const auto [lowest, highest] = std::minmax_element(per_chain.begin(), per_chain.end());
