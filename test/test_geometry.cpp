@@ -1,6 +1,7 @@
 // Back-projection and normals against scenes with known geometry.
 #include "synthetic_fixtures.hpp"
 
+#include "risas/errors.hpp"
 #include "risas/geometry.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -428,6 +429,36 @@ TEST(Geometry, NormalsAreTheWindowedFitOnEveryPath) {
       EXPECT_GT(within, frame == &clean ? 0.95 : (stride == 1 ? 0.65 : 0.95)) << which << ", stride " << stride;
     }
   }
+}
+
+// The renderer's light: at the camera by default, so a surface point's grey
+// changes as the camera moves round it; fixed in the world
+// (setLightDirection), it does not. The odometry's plain-box test needs the
+// latter (docs/odometry.md, "A plain box orbited at a camera's rate").
+TEST(SyntheticScene, ALightFixedInTheWorldShadesAPointAlikeFromEveryView) {
+  SyntheticScene scene;
+  scene.addPlane(pose({0, 0, 0}), 2.0, 2.0, Material{false, 0.6, 0.0, 0});
+  const Eigen::Vector3d point(0.1, 0.2, 0.0);
+  const auto greyAt = [&](const Eigen::Isometry3d& camera) {
+    const SyntheticRender r = scene.render(syntheticIntrinsics(), test::kVga, camera);
+    const Eigen::Vector3d p = camera.inverse() * point;
+    const cv::Point2f px = syntheticIntrinsics().project(
+        cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+    return static_cast<int>(r.bgr.at<cv::Vec3b>(cvRound(px.y), cvRound(px.x))[0]);
+  };
+  const Eigen::Isometry3d above = lookAt({0.0, -0.5, 1.2}, point), aside = lookAt({0.9, 0.3, 0.6}, point);
+  // The light at the camera: 0.35 + 0.65 |n.ray|, cos 0.86 from above and
+  // 0.60 from aside, grey 139 against 113.
+  EXPECT_GT(std::abs(greyAt(above) - greyAt(aside)), 20);
+
+  const Eigen::Vector3d towards_light(0.4, -0.5, 1.0);
+  scene.setLightDirection(towards_light);
+  const int lit = cvRound(0.6 * 255.0 * (0.35 + 0.65 * towards_light.normalized().z()));
+  EXPECT_EQ(greyAt(above), lit);
+  EXPECT_EQ(greyAt(aside), lit);
+
+  EXPECT_THROW(scene.setLightDirection(Eigen::Vector3d::Zero()), InputError);
+  EXPECT_THROW(scene.setLightDirection({std::nan(""), 0.0, 1.0}), InputError);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "risas/synthetic_scene.hpp"
 
+#include "risas/errors.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
@@ -92,6 +94,13 @@ void SyntheticScene::addSphere(const Eigen::Vector3d& centre, double radius, con
   pose.translation() = centre;
   primitives_.push_back({Primitive::Kind::Sphere, pose, Eigen::Vector3d::Constant(radius), material,
                          textureFor(material)});
+}
+
+void SyntheticScene::setLightDirection(const Eigen::Vector3d& towards_light) {
+  const double length = towards_light.norm();
+  if (!std::isfinite(length) || length == 0.0) throw InputError("the light's direction must be finite and non-zero");
+  towards_light_ = towards_light / length;
+  light_at_camera_ = false;
 }
 
 SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const Eigen::Isometry3d& world_T_camera) const {
@@ -206,7 +215,10 @@ SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const
         }
         const Eigen::Vector3d n_camera = camera_R_world * best.normal_world;
         // The ray in camera coordinates has z = 1, so the hit's depth is t.
-        const double shade = lighting_ ? 0.35 + 0.65 * std::abs(n_camera.dot(ray_camera.normalized())) : 1.0;
+        // Normals face the camera, so a face turned from a fixed light is dark.
+        const double lambert = light_at_camera_ ? std::abs(n_camera.dot(ray_camera.normalized()))
+                                                : std::max(0.0, best.normal_world.dot(towards_light_));
+        const double shade = lighting_ ? 0.35 + 0.65 * lambert : 1.0;
         const uchar grey = cv::saturate_cast<uchar>(albedo * shade);
         out.bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(grey, grey, grey);
         out.depth_mm.at<uint16_t>(v, u) = cv::saturate_cast<uint16_t>(best.t * 1000.0);

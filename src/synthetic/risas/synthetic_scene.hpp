@@ -34,9 +34,16 @@ class SyntheticScene {
   void addBox(const Eigen::Isometry3d& world_T_box, const Eigen::Vector3d& half_extents, const Material& material);
   void addSphere(const Eigen::Vector3d& centre, double radius, const Material& material);
 
-  // Lambertian shading from a light at the camera plus ambient light; off,
-  // every surface shows its albedo alone (shape leaves no trace in the grey image).
+  // Lambertian shading plus ambient light; off, every surface shows its
+  // albedo alone (shape leaves no trace in the grey image). The light sits
+  // at the camera unless setLightDirection fixes it in the world: a light
+  // at the camera changes a surface's brightness as the camera moves, and
+  // on a plain surface its quantised shading draws bands that move with
+  // the camera, features a motion estimate would take for still ones.
   void setLighting(bool enabled) { lighting_ = enabled; }
+  // A distant light fixed in the world, as a room's is: `towards_light` in
+  // world axes, any length but finite and non-zero (InputError otherwise).
+  void setLightDirection(const Eigen::Vector3d& towards_light);
 
   SyntheticRender render(const Intrinsics& intrinsics, cv::Size size, const Eigen::Isometry3d& world_T_camera) const;
 
@@ -59,6 +66,8 @@ class SyntheticScene {
   std::vector<Primitive> primitives_;
   std::vector<cv::Mat> textures_;
   bool lighting_ = true;
+  bool light_at_camera_ = true;
+  Eigen::Vector3d towards_light_ = Eigen::Vector3d::UnitZ();  // unit, world axes
 
   int textureFor(const Material& material);
 };
