@@ -21,6 +21,7 @@ namespace {
 using test::angleDeg;
 
 using test::pose;
+using test::UntexturedBox;
 
 double distanceToNearest(const cv::Point2f& p, const std::vector<cv::Point2f>& targets) {
   double best = 1e9;
@@ -183,72 +184,6 @@ TEST(Detector, FiresOnTheCornersOfTexturedSquares) {
   EXPECT_EQ(targetsFound(corners, keypoints), static_cast<int>(corners.size()));
 }
 
-// An untextured box on an untextured floor, unlit: the grey image is one
-// constant, so every keypoint must come from the shape channel.
-struct UntexturedBox {
-  SyntheticScene scene;
-  Eigen::Isometry3d camera;
-  Eigen::Isometry3d box_pose;
-  Eigen::Vector3d half{0.15, 0.1, 0.12};
-
-  UntexturedBox() {
-    const Material plain{false, 0.5, 0.0, 0};
-    scene.addPlane(pose({0, 0, 0}), 5.0, 5.0, plain);
-    box_pose = pose({0, 0, half.z()}, Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix());
-    scene.addBox(box_pose, half, plain);
-    scene.setLighting(false);
-    camera = lookAt({0.2, -0.9, 0.8}, {0, 0, 0.1});
-  }
-
-  // Corner i of the box (bits: +x, +y, +z) in camera coordinates and in pixels.
-  Eigen::Vector3d cameraPoint(int corner) const {
-    const Eigen::Vector3d local(corner & 1 ? half.x() : -half.x(), corner & 2 ? half.y() : -half.y(),
-                                corner & 4 ? half.z() : -half.z());
-    return camera.inverse() * (box_pose * local);
-  }
-  cv::Point2f project(int corner) const {
-    const Eigen::Vector3d p = cameraPoint(corner);
-    return syntheticIntrinsics().project(
-        cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
-  }
-
-  // Distance in pixels from p to the nearest projected edge of the box.
-  double distanceToEdges(const cv::Point2f& p) const {
-    double best = 1e9;
-    for (int a = 0; a < 8; ++a) {
-      for (int bit : {1, 2, 4}) {
-        if (a & bit) continue;
-        const cv::Point2f s = project(a), e = project(a | bit);
-        const cv::Point2f d = e - s;
-        const float t = std::clamp((p - s).dot(d) / d.dot(d), 0.0f, 1.0f);
-        best = std::min(best, cv::norm(p - (s + t * d)));
-      }
-    }
-    return best;
-  }
-
-  // The box's corners that the camera sees, in pixels.
-  std::vector<cv::Point2f> visibleCorners(const SyntheticRender& render) const {
-    std::vector<cv::Point2f> corners;
-    for (int i = 0; i < 8; ++i) {
-      const double z_mm = cameraPoint(i).z() * 1000.0;
-      const cv::Point2f px = project(i);
-      const int u = cvRound(px.x), v = cvRound(px.y);
-      if (u < 3 || v < 3 || u >= 637 || v >= 477) continue;
-      // Visible when some pixel right around it shows the corner's depth (on a
-      // silhouette the rounded pixel itself may show the floor behind).
-      bool visible = false;
-      for (int dv = -3; dv <= 3; ++dv) {
-        for (int du = -3; du <= 3; ++du) {
-          visible |= std::abs(render.depth_mm.at<uint16_t>(v + dv, u + du) - z_mm) < 15.0;
-        }
-      }
-      if (visible) corners.push_back(px);
-    }
-    return corners;
-  }
-};
-
 TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
   const UntexturedBox box;
   SyntheticRender render;
@@ -289,8 +224,8 @@ TEST(Detector, FiresOnTheCreasesOfAnUntexturedBox) {
 TEST(Detector, FloorKeepsAnUntexturedBoxOnKinectDepthDescribed) {
   UntexturedBox box;
   box.scene.setLighting(true);  // its faces shaded, as a lit plain box's are
-  const Eigen::Vector3d eye = box.camera.translation(), target(0.0, 0.0, 0.1);
-  const Eigen::Isometry3d other = lookAt(Eigen::AngleAxisd(20.0 * CV_PI / 180.0, Eigen::Vector3d::UnitZ()) * eye, target);
+  const Eigen::Isometry3d other =
+      lookAt(Eigen::AngleAxisd(20.0 * CV_PI / 180.0, Eigen::Vector3d::UnitZ()) * box.eye, box.target);
   SyntheticRender render_a, render_b;
   const RgbdFrame a = test::kinectLikeFrame(box.scene, box.camera, 3, 1.0, &render_a),
                   b = test::kinectLikeFrame(box.scene, other, 4, 1.0, &render_b);

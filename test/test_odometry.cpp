@@ -305,19 +305,15 @@ TEST(OdometryOnKinectDepth, TheReprojectionRefitTracksCloserThanThe3DRefit) {
 // config/odometry.yaml's 1000 keypoints track the circle and end within
 // twice the rotation's sigma they report.
 TEST(OdometryOnAPlainBox, ReportsTheMotionItCannotSeeAsLostOrUncertain) {
-  SyntheticScene scene;
-  const Material plain{false, 0.5, 0.0, 0};
-  scene.addPlane(test::pose({0, 0, 0}), 5.0, 5.0, plain);
-  scene.addBox(test::pose({0, 0, 0.12}, Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix()),
-               {0.15, 0.1, 0.12}, plain);
-  scene.setLightDirection({0.4, -0.5, 1.0});
-  const Eigen::Vector3d eye(0.2, -0.9, 0.8), target(0.0, 0.0, 0.1);
+  test::UntexturedBox box;
+  box.scene.setLighting(true);
+  box.scene.setLightDirection({0.4, -0.5, 1.0});
   const int n = 40;
   std::vector<Eigen::Isometry3d> poses;
   std::vector<RgbdFrame> frames;
   for (int k = 0; k < n; ++k) {
-    poses.push_back(lookAt(Eigen::AngleAxisd(0.5 * k * CV_PI / 180.0, Eigen::Vector3d::UnitZ()) * eye, target));
-    frames.push_back(test::kinectLikeFrame(scene, poses.back(), 100 + static_cast<uint64_t>(k)));
+    poses.push_back(lookAt(Eigen::AngleAxisd(0.5 * k * CV_PI / 180.0, Eigen::Vector3d::UnitZ()) * box.eye, box.target));
+    frames.push_back(test::kinectLikeFrame(box.scene, poses.back(), 100 + static_cast<uint64_t>(k)));
   }
   const auto track = [&](const RisasParams& params, int& lost) {
     const Risas risas(params);
