@@ -457,6 +457,8 @@ TEST(SyntheticScene, ALightFixedInTheWorldShadesAPointAlikeFromEveryView) {
   EXPECT_EQ(greyAt(above), lit);
   EXPECT_EQ(greyAt(aside), lit);
 
+  scene.setLightDirection({1e300, -1e300, 0.0});  // the norm scaled, not overflowed
+  EXPECT_EQ(greyAt(above), cvRound(0.6 * 255.0 * 0.35));  // the light along the floor: ambient alone
   EXPECT_THROW(scene.setLightDirection(Eigen::Vector3d::Zero()), InputError);
   EXPECT_THROW(scene.setLightDirection({std::nan(""), 0.0, 1.0}), InputError);
 }

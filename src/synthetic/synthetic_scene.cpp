@@ -98,7 +98,7 @@ void SyntheticScene::addSphere(const Eigen::Vector3d& centre, double radius, con
 }
 
 void SyntheticScene::setLightDirection(const Eigen::Vector3d& towards_light) {
-  const double length = towards_light.norm();
+  const double length = towards_light.stableNorm();  // (1e300, 1e300, 0) is a direction too
   if (!std::isfinite(length) || length == 0.0) throw InputError("the light's direction must be finite and non-zero");
   towards_light_ = towards_light / length;
   light_at_camera_ = false;
