@@ -101,7 +101,6 @@ void SyntheticScene::setLightDirection(const Eigen::Vector3d& towards_light) {
   const double length = towards_light.stableNorm();  // (1e300, 1e300, 0) is a direction too
   if (!std::isfinite(length) || length == 0.0) throw InputError("the light's direction must be finite and non-zero");
   towards_light_ = towards_light / length;
-  light_at_camera_ = false;
 }
 
 SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const Eigen::Isometry3d& world_T_camera) const {
@@ -217,8 +216,8 @@ SyntheticRender SyntheticScene::render(const Intrinsics& K, cv::Size size, const
         const Eigen::Vector3d n_camera = camera_R_world * best.normal_world;
         // The ray in camera coordinates has z = 1, so the hit's depth is t.
         // Normals face the camera, so a face turned from a fixed light is dark.
-        const double lambert = light_at_camera_ ? std::abs(n_camera.dot(ray_camera.normalized()))
-                                                : std::max(0.0, best.normal_world.dot(towards_light_));
+        const double lambert = towards_light_ ? std::max(0.0, best.normal_world.dot(*towards_light_))
+                                              : std::abs(n_camera.dot(ray_camera.normalized()));
         const double shade = lighting_ ? 0.35 + 0.65 * lambert : 1.0;
         const uchar grey = cv::saturate_cast<uchar>(albedo * shade);
         out.bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(grey, grey, grey);

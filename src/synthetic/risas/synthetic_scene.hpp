@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include <optional>
 #include <vector>
 
 namespace risas {
@@ -66,8 +67,7 @@ class SyntheticScene {
   std::vector<Primitive> primitives_;
   std::vector<cv::Mat> textures_;
   bool lighting_ = true;
-  bool light_at_camera_ = true;
-  Eigen::Vector3d towards_light_ = Eigen::Vector3d::UnitZ();  // unit, world axes
+  std::optional<Eigen::Vector3d> towards_light_;  // unit, world axes; none: the light sits at the camera
 
   int textureFor(const Material& material);
 };
