@@ -94,6 +94,31 @@ TEST_F(BadFiles, CorruptAndMissingImagesGiveOneLine) {
   EXPECT_INPUT_ERROR(readRgbdImages(path("rgb.png"), path("missing.png")), "no such file");
 }
 
+TEST_F(BadFiles, JpegsCutShortOrCorruptAreRefusedNotFilledWithGrey) {
+  // OpenCV returns such an image whole, grey where libjpeg's data ran out;
+  // only libjpeg's warning tells.
+  cv::Mat noise(48, 64, CV_8UC3);
+  cv::RNG(7).fill(noise, cv::RNG::UNIFORM, 0, 256);  // scan data the most of the file
+  ASSERT_TRUE(cv::imwrite(path("rgb.jpg"), noise));
+  std::ifstream good(path("rgb.jpg"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(good)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.substr(bytes.size() - 2), "\xff\xd9");  // the end marker
+  const std::string body = bytes.substr(0, bytes.size() - 2);
+  const auto read = [&](const std::string& name, const std::string& content) {
+    std::ofstream(path(name), std::ios::binary) << content;
+    return readRgbdImages(path(name), path("depth.png")).bgr;
+  };
+  EXPECT_INPUT_ERROR(read("cut.jpg", bytes.substr(0, bytes.size() / 2)),
+                     "cut.jpg: Premature end of JPEG file (part of the image is missing)");
+  EXPECT_INPUT_ERROR(read("no_end.jpg", body), "Premature end of JPEG file");
+  EXPECT_INPUT_ERROR(read("ends_early.jpg", bytes.substr(0, bytes.size() / 2) + "\xff\xd9"),
+                     "Corrupt JPEG data: premature end of data segment");
+  // Bytes before the end marker lose nothing: the same image.
+  const cv::Mat padded = read("padded.jpg", body + std::string(3, '\0') + "\xff\xd9");
+  EXPECT_EQ(cv::norm(padded, read("whole.jpg", bytes), cv::NORM_INF), 0.0);
+  EXPECT_EQ(padded.size(), noise.size());
+}
+
 TEST_F(BadFiles, ParameterFilesWithTyposFractionsAndHugeValuesAreRefused) {
   const auto load = [&](const std::string& text) {
     write("p.yml", "%YAML:1.0\n" + text);

@@ -67,8 +67,28 @@ std::string capturingStderr(F&& call) {
   return text;
 }
 
-// cv::imread, its complaints (OpenCV's log, libpng's own lines) folded into
-// the one InputError: the first of them says what is wrong with the file.
+// libjpeg's warning, when `said` holds one, that the image it still
+// returned lacks data: the file ends early (a copy cut short), or its data
+// are corrupt, and libjpeg filled the rest with grey or with what it could
+// resynchronise on. Bytes skipped before a marker ("extraneous bytes")
+// lose nothing and pass. libjpeg prints only a file's first warning, so a
+// file with extraneous bytes and truncated later passes too.
+std::string jpegDataLost(const std::string& said) {
+  for (size_t start = 0; start < said.size();) {
+    const size_t end = std::min(said.find('\n', start), said.size());
+    const std::string line = said.substr(start, end - start);
+    const bool lost = line.rfind("Premature end of JPEG file", 0) == 0 ||
+                      (line.rfind("Corrupt JPEG data", 0) == 0 && line.find("extraneous bytes") == std::string::npos);
+    if (lost) return line;
+    start = end + 1;
+  }
+  return {};
+}
+
+// cv::imread, its complaints (OpenCV's log, libpng's and libjpeg's own
+// lines) folded into the one InputError: the first of them says what is
+// wrong with the file. An image libjpeg decoded only in part is refused
+// too: OpenCV returns it, grey where the data ran out.
 cv::Mat readImage(const std::string& path, int flags, const char* what) {
   const std::string prefix = std::string("cannot read ") + what + " image " + path + ": ";
   if (!std::filesystem::is_regular_file(path)) throw InputError(prefix + "no such file");
@@ -80,7 +100,11 @@ cv::Mat readImage(const std::string& path, int flags, const char* what) {
       image.release();
     }
   });
-  if (!image.empty()) return image;
+  if (!image.empty()) {
+    const std::string lost = jpegDataLost(said);
+    if (lost.empty()) return image;
+    throw InputError(prefix + lost + " (part of the image is missing)");
+  }
   said = said.substr(0, said.find('\n'));
   throw InputError(prefix + (said.empty() ? "not an image OpenCV can decode" : said));
 }
