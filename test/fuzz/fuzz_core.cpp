@@ -1,8 +1,9 @@
 // Fuzz driver for the core's entry points: RgbdFrame, Risas::extract /
 // detect / compute, matchDescriptors, estimateRigidMotion and RisasParams
 // read from text, a twist from a motion found, a TUM RGB-D folder's lists
-// and trajectory (readTumSequence, readTumTrajectory), and a features file
-// (readFeatures). One input drives one case of each.
+// and trajectory (readTumSequence, readTumTrajectory), a features file
+// (readFeatures) and image files (readRgbdImages). One input drives one
+// case of each.
 //
 // Invariants it holds the core to (a breach aborts, and so does any
 // sanitizer report):
@@ -19,7 +20,8 @@
 //     existing colour and depth file and a depth stamp within the
 //     tolerance, and poses that are finite rotations and translations;
 //   - a features file read has one CV_32F descriptor row per keypoint and
-//     geometry for none or for each.
+//     geometry for none or for each;
+//   - an image file is read whole or refused, a JPEG cut short refused.
 //
 // Built two ways (test/fuzz/CMakeLists.txt): with clang and -fsanitize=fuzzer
 // as a libFuzzer target, and everywhere as `risas_fuzz_loop`, a seeded,
@@ -34,6 +36,8 @@
 #include "risas/risas.hpp"
 #include "risas/tum_sequence.hpp"
 #include "risas/twist.hpp"
+
+#include <opencv2/imgcodecs.hpp>
 
 #include <unistd.h>
 
@@ -428,6 +432,50 @@ void fuzzDatasetTextFiles(Bytes& in) {
   }
 }
 
+// A colour image file, JPEG or PNG, encoded whole and then now and then cut
+// short, its bytes overwritten or bytes inserted, read with a good depth
+// image by readRgbdImages: it gives images of the kinds it promises or
+// refuses the file; a whole file gives its decoding; a JPEG cut short is
+// refused (OpenCV would return it grey where its data ran out) and a cut
+// PNG is refused or read whole.
+void fuzzImageFiles(Bytes& in) {
+  static const FuzzFolder folder;
+  const cv::Size size(in.in(1, 48), in.in(1, 48));
+  const cv::Mat colour = image(in, size, CV_8UC3);
+  const bool jpeg = in.byte() % 2;
+  std::vector<uint8_t> encoded;
+  require(cv::imencode(jpeg ? ".jpg" : ".png", colour, encoded), "an image encodes");
+  std::string bytes(encoded.begin(), encoded.end());
+  const std::string whole = bytes;
+  const auto position = [&](size_t end) { return static_cast<size_t>(in.in(0, static_cast<int>(end))); };
+  const int change = in.byte() % 4;  // 0: whole
+  if (change == 1) bytes.resize(position(bytes.size() - 1));
+  for (int k = change == 2 ? in.in(1, 8) : 0; k > 0; --k) {
+    bytes[position(bytes.size() - 1)] = static_cast<char>(in.byte());
+  }
+  if (change == 3) {
+    const size_t at = position(bytes.size());
+    bytes.insert(at, std::string(static_cast<size_t>(in.in(1, 8)), static_cast<char>(in.byte())));
+  }
+  const std::string rgb = (folder.path() / (jpeg ? "colour.jpg" : "colour.png")).string();
+  const std::string depth = (folder.path() / "depth.png").string();
+  std::ofstream(rgb, std::ios::binary) << bytes;
+  if (!std::filesystem::exists(depth)) cv::imwrite(depth, cv::Mat(4, 4, CV_16UC1, cv::Scalar(1000)));
+  try {
+    const risas::RgbdImages read = risas::readRgbdImages(rgb, depth);
+    require(!read.bgr.empty() && read.bgr.type() == CV_8UC3 && read.depth_mm.type() == CV_16UC1,
+            "images read are of the kinds promised");
+    require(!(change == 1 && jpeg), "a JPEG cut short is refused");
+    if (bytes == whole || change == 1) {
+      const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_COLOR);
+      require(read.bgr.size() == decoded.size() && cv::norm(read.bgr, decoded, cv::NORM_INF) == 0.0,
+              "a whole or cut file read gives the whole file's image");
+    }
+  } catch (const risas::InputError&) {
+    require(bytes != whole, "a whole file is read");
+  }
+}
+
 void fuzzParams(Bytes& in) {
   if (in.byte() % 2) {  // a parameter file, with or without its "%YAML" line, through load
     static const FuzzFolder folder;
@@ -470,12 +518,13 @@ void fuzzParams(Bytes& in) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Bytes in(data, size);
   runCase([&] {
-    switch (in.byte() % 6) {
+    switch (in.byte() % 7) {
       case 0: fuzzFrame(in); break;
       case 1: fuzzMatchingAndMotion(in); break;
       case 2: fuzzTumFolder(in); break;
       case 3: fuzzFeaturesFile(in); break;
       case 4: fuzzDatasetTextFiles(in); break;
+      case 5: fuzzImageFiles(in); break;
       default: fuzzParams(in); break;
     }
   });
