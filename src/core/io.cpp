@@ -71,8 +71,10 @@ std::string capturingStderr(F&& call) {
 // returned lacks data: the file ends early (a copy cut short), or its data
 // are corrupt, and libjpeg filled the rest with grey or with what it could
 // resynchronise on. Bytes skipped before a marker ("extraneous bytes")
-// lose nothing and pass. libjpeg prints only a file's first warning, so a
-// file with extraneous bytes and truncated later passes too.
+// pass: a writer's padding loses nothing, and libjpeg's words do not tell
+// it from corrupt data it decoded through and then had left over. libjpeg
+// prints only a file's first warning, so a file with extraneous bytes and
+// truncated later passes too.
 std::string jpegDataLost(const std::string& said) {
   for (size_t start = 0; start < said.size();) {
     const size_t end = std::min(said.find('\n', start), said.size());
