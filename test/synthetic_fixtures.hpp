@@ -141,6 +141,13 @@ inline Eigen::Isometry3d rolled(const Eigen::Isometry3d& world_T_camera, double 
   return T;
 }
 
+// Where a world point lands in the synthetic camera at world_T_camera, in pixels.
+inline cv::Point2f projectInto(const Eigen::Isometry3d& world_T_camera, const Eigen::Vector3d& world_point) {
+  const Eigen::Vector3d p = world_T_camera.inverse() * world_point;
+  return syntheticIntrinsics().project(
+      cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+}
+
 inline double angleDeg(const cv::Vec3f& a, const cv::Vec3f& b) {
   const double c = a.dot(b) / (cv::norm(a) * cv::norm(b));
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
@@ -192,7 +199,8 @@ struct UntexturedBox {
   Eigen::Isometry3d camera;
   Eigen::Isometry3d box_pose;
   Eigen::Vector3d half{0.15, 0.1, 0.12};
-  Eigen::Vector3d eye{0.2, -0.9, 0.8}, target{0.0, 0.0, 0.1};  // the camera, 1.2 m from the box
+  // The camera (camera = lookAt(eye, target)), 1.2 m from the box.
+  const Eigen::Vector3d eye{0.2, -0.9, 0.8}, target{0.0, 0.0, 0.1};
 
   UntexturedBox() {
     const Material plain{false, 0.5, 0.0, 0};
@@ -203,17 +211,14 @@ struct UntexturedBox {
     camera = lookAt(eye, target);
   }
 
-  // Corner i of the box (bits: +x, +y, +z) in camera coordinates and in pixels.
-  Eigen::Vector3d cameraPoint(int corner) const {
+  // Corner i of the box (bits: +x, +y, +z) in the world, in camera coordinates and in pixels.
+  Eigen::Vector3d worldPoint(int corner) const {
     const Eigen::Vector3d local(corner & 1 ? half.x() : -half.x(), corner & 2 ? half.y() : -half.y(),
                                 corner & 4 ? half.z() : -half.z());
-    return camera.inverse() * (box_pose * local);
+    return box_pose * local;
   }
-  cv::Point2f project(int corner) const {
-    const Eigen::Vector3d p = cameraPoint(corner);
-    return syntheticIntrinsics().project(
-        cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
-  }
+  Eigen::Vector3d cameraPoint(int corner) const { return camera.inverse() * worldPoint(corner); }
+  cv::Point2f project(int corner) const { return projectInto(camera, worldPoint(corner)); }
 
   // Distance in pixels from p to the nearest projected edge of the box.
   double distanceToEdges(const cv::Point2f& p) const {

@@ -441,9 +441,7 @@ TEST(SyntheticScene, ALightFixedInTheWorldShadesAPointAlikeFromEveryView) {
   const Eigen::Vector3d point(0.1, 0.2, 0.0);
   const auto greyAt = [&](const Eigen::Isometry3d& camera) {
     const SyntheticRender r = scene.render(syntheticIntrinsics(), test::kVga, camera);
-    const Eigen::Vector3d p = camera.inverse() * point;
-    const cv::Point2f px = syntheticIntrinsics().project(
-        cv::Point3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+    const cv::Point2f px = test::projectInto(camera, point);
     return static_cast<int>(r.bgr.at<cv::Vec3b>(cvRound(px.y), cvRound(px.x))[0]);
   };
   const Eigen::Isometry3d above = lookAt({0.0, -0.5, 1.2}, point), aside = lookAt({0.9, 0.3, 0.6}, point);
