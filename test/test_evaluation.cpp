@@ -2,10 +2,12 @@
 // and risas_evaluate end to end on a rendered sequence.
 #include "risas/errors.hpp"
 #include "risas/evaluation/evaluator.hpp"
+#include "risas/evaluation/image_noise.hpp"
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/metrics.hpp"
 #include "risas/evaluation/protocol.hpp"
 
+#include "input_error.hpp"
 #include "synthetic_fixtures.hpp"
 
 #include <gtest/gtest.h>
@@ -210,6 +212,52 @@ TEST(Methods, OrbDistinctDescribesEachOfOrbsPointsOnce) {
     for (const cv::Point2f& q : distinct.pixels) nearest = std::min(nearest, cv::norm(p - q));
     ASSERT_LE(nearest, kSamePointPixels);
   }
+}
+
+// The noise withImageNoise adds is what it says: zero-mean, sigma grey
+// levels, independent between channels, rounded and saturated (not wrapped)
+// at 0 and 255; drawn again only for another seed or frame.
+TEST(ImageNoise, AddsZeroMeanGaussianNoiseOfSigmaToEachChannelSaturated) {
+  const cv::Mat grey(200, 300, CV_8UC3, cv::Scalar(128, 128, 128));
+  const cv::Mat noisy = withImageNoise(grey, 10.0, 1, 7);
+  ASSERT_EQ(noisy.type(), CV_8UC3);
+  ASSERT_EQ(noisy.size(), grey.size());
+  cv::Mat difference;
+  noisy.convertTo(difference, CV_64FC3, 1.0, -128.0);
+  cv::Scalar mean, sd;
+  cv::meanStdDev(difference, mean, sd);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(mean[c], 0.0, 0.15) << "channel " << c;
+    EXPECT_NEAR(sd[c], std::sqrt(100.0 + 1.0 / 12.0), 0.2) << "channel " << c;  // plus the rounding's
+  }
+  std::vector<cv::Mat> channels;
+  cv::split(difference, channels);
+  EXPECT_LT(std::abs(channels[0].dot(channels[1])) / (channels[0].total() * sd[0] * sd[1]), 0.02);
+  EXPECT_LT(std::abs(channels[1].dot(channels[2])) / (channels[1].total() * sd[1] * sd[2]), 0.02);
+  // The same draw for the same seed and frame, another for either changed.
+  EXPECT_EQ(cv::norm(withImageNoise(grey, 10.0, 1, 7), noisy, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::countNonZero(withImageNoise(grey, 10.0, 2, 7).reshape(1) != noisy.reshape(1)), 0.8 * 180000);
+  EXPECT_GT(cv::countNonZero(withImageNoise(grey, 10.0, 1, 8).reshape(1) != noisy.reshape(1)), 0.8 * 180000);
+  EXPECT_EQ(cv::norm(withImageNoise(grey, 0.0, 1, 7), grey, cv::NORM_INF), 0.0);
+  // Black stays at 0 where the noise is negative, about half the pixels; a
+  // wrap-around would have put them near 255.
+  const cv::Mat black(100, 100, CV_8UC1, cv::Scalar(0));
+  const cv::Mat dark = withImageNoise(black, 10.0, 3, 0);
+  const double zeros = 1.0 - cv::countNonZero(dark) / 10000.0;
+  EXPECT_GT(zeros, 0.45);
+  EXPECT_LT(zeros, 0.58);
+  double highest = 0.0;
+  cv::minMaxLoc(dark, nullptr, &highest);
+  EXPECT_LT(highest, 80.0);
+  // A sigma that is no grey level, or an image that is not 8-bit: one line.
+  for (const double sigma : {-1.0, std::nan(""), 256.0}) {
+    EXPECT_NE(test::inputErrorOf([&] { withImageNoise(grey, sigma, 1, 0); }).find("image noise sigma must be 0 to 255"),
+              std::string::npos)
+        << sigma;
+  }
+  EXPECT_NE(test::inputErrorOf([] { withImageNoise(cv::Mat(4, 4, CV_16UC1, cv::Scalar(0)), 1.0, 1, 0); })
+                .find("image noise is for 8-bit images"),
+            std::string::npos);
 }
 
 TEST(Evaluator, AMissIsPreferredByTheDepthOnlyWhenItsPoseFitsClearlyBetter) {

@@ -249,6 +249,52 @@ double numberAfter(const std::string& output, const std::string& label) {
   return at == std::string::npos ? -1.0 : std::stod(output.substr(at + label.size()));
 }
 
+// --image-noise: each colour image gets its noise before its features, the
+// same draw for the same --noise-seed (the same trajectory, to the digit),
+// another for another seed; the run says so. Nonsense is one line, before
+// the work.
+TEST_F(Tools, OdometryAddsTheSameImageNoiseForASeedAndOtherNoiseForAnother) {
+  const std::string common =
+      "risas_odometry --tum " + tumFolder(3).string() + " --intrinsics " + file("camera-intrinsics.txt");
+  const auto trajectory = [&](const std::string& name) {
+    std::ifstream in(file(name));
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  ToolRun r = run(common + " --out " + file("clean.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("grey noise"), std::string::npos) << r.output;
+  for (const std::string name : {"noisy_a.txt", "noisy_b.txt"}) {
+    r = run(common + " --image-noise 5 --noise-seed 1 --out " + file(name));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("Colour images with grey noise of sigma 5 (noise seed 1) before their features"),
+              std::string::npos)
+        << r.output;
+    // The rendered motion is exact, and noise of 5 grey levels does not lose it.
+    EXPECT_NE(r.output.find("3 frames, 0 not tracked"), std::string::npos) << r.output;
+    EXPECT_LT(numberAfter(r.output, "ATE RMSE "), 0.01) << r.output;
+  }
+  EXPECT_EQ(trajectory("noisy_b.txt"), trajectory("noisy_a.txt"));
+  EXPECT_NE(trajectory("noisy_a.txt"), trajectory("clean.txt"));
+  r = run(common + " --image-noise 5 --noise-seed 2 --out " + file("noisy_c.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(trajectory("noisy_c.txt"), trajectory("noisy_a.txt"));
+  const std::map<std::string, std::string> refused = {
+      {" --image-noise -1", "risas_odometry: --image-noise is 0 to 255 grey levels, not -1"},
+      {" --image-noise 300", "risas_odometry: --image-noise is 0 to 255 grey levels, not 300"},
+      {" --image-noise nan", "risas_odometry: --image-noise expects a number, got 'nan'"},
+      {" --noise-seed 3", "risas_odometry: --noise-seed does not apply without --image-noise"},
+      {" --image-noise 2 --noise-seed -3", "risas_odometry: --noise-seed must be a whole number in [0, 1000000000]"},
+  };
+  for (const auto& [options, expected] : refused) {
+    r = run(common + options + " --out " + file("refused.txt"));
+    EXPECT_EQ(r.exit_code, 2) << options << ": " << r.output;
+    EXPECT_EQ(r.output.rfind(expected, 0), 0u) << options << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << options << ": " << r.output;
+  }
+}
+
 // --truth-offset shifts groundtruth.txt's stamps before the frames take
 // the nearest: a truth whose clock runs a second late pairs each frame with
 // the pose a second before, unless the offset takes the second back.

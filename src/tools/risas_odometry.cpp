@@ -4,6 +4,7 @@
 #include "cli.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/evaluation/image_noise.hpp"
 #include "risas/evaluation/median.hpp"
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/protocol.hpp"
@@ -104,14 +105,23 @@ double mean(const std::vector<double>& values) {
 // a frame: the seeds and the chains change only the tracking. A frame's
 // are kept (about 0.3 MB a frame at 1000 keypoints) until every chain that
 // has the frame has released it.
+// --image-noise and --noise-seed: frame i's colour image gets
+// withImageNoise(sigma, seed, i), the same in every chain.
+struct ImageNoise {
+  double sigma = 0.0;
+  uint32_t seed = 0;
+};
+
 class FeatureCache {
  public:
-  // features_name: RISAS (with params), ORB or ORB-distinct.
+  // features_name: RISAS (with params), ORB or ORB-distinct. noise: grey
+  // noise added to each colour image before its features (sigma 0: none).
   FeatureCache(const risas::TumSequence& sequence, const risas::Intrinsics& K, const std::string& features_name,
-               const risas::RisasParams& params, const std::vector<std::vector<size_t>>& chains)
+               const risas::RisasParams& params, const ImageNoise& noise, const std::vector<std::vector<size_t>>& chains)
       : sequence_(sequence),
         K_(K),
         features_name_(features_name),
+        noise_(noise),
         risas_(risas::Risas::create(params)),
         orb_(cv::ORB::create(1000)),
         uses_(sequence.frames.size(), 0),
@@ -124,7 +134,9 @@ class FeatureCache {
   // Frame i's features, extracted on the first call.
   const risas::Features& get(size_t i) {
     if (!kept_[i]) {
-      const risas::RgbdFrame frame = risas::loadTumFrame(sequence_.frames[i], K_);
+      risas::RgbdImages images = risas::readRgbdImages(sequence_.frames[i].rgb, sequence_.frames[i].depth);
+      if (noise_.sigma > 0.0) images.bgr = risas::eval::withImageNoise(images.bgr, noise_.sigma, noise_.seed, i);
+      const risas::RgbdFrame frame = risas::rgbdFrameOf(images, K_, risas::kTumDepthUnitsPerMetre);
       kept_[i] = features_name_ == "RISAS" ? risas_->extract(frame)
                                            : orbFeatures(orb_, frame, features_name_ == "ORB-distinct");
     }
@@ -143,6 +155,7 @@ class FeatureCache {
   const risas::TumSequence& sequence_;
   const risas::Intrinsics K_;
   const std::string features_name_;
+  const ImageNoise noise_;
   const cv::Ptr<risas::Risas> risas_;
   const cv::Ptr<cv::ORB> orb_;
   std::vector<int> uses_;  // per frame: the chains that have not released it
@@ -323,6 +336,11 @@ int main(int argc, char** argv) {
              "shifts the other file)"},
         {"max-frames", "N", "track at most N frames a chain"},
         {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
+        {"image-noise", "SIGMA",
+         "add zero-mean Gaussian noise of SIGMA grey levels to each channel of each colour image before its "
+         "features, as dim light does (default 0: none); 1 is below a Kinect's own noise"},
+        {"noise-seed", "N", "the noise's draw: another N, other noise; each frame's is the same in every chain "
+                            "(default 0)"},
         risas::cli::paramsOption()};
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
@@ -330,12 +348,15 @@ int main(int argc, char** argv) {
         "risas_odometry --tum DIR --out T.txt --intrinsics K.txt | --fx F --fy F --cx C --cy C\n"
         "               [--features RISAS|ORB|ORB-distinct] [--params P.yml] [--frames F.csv] [--delta 1]\n"
         "               [--step N] [--start S[,S...]] [--ransac-seeds N] [--truth-offset S]\n"
+        "               [--image-noise SIGMA [--noise-seed N]]\n"
         "Frame-to-keyframe RGB-D odometry (risas::Odometry) over a TUM-layout sequence; writes the\n"
         "trajectory and, with groundtruth.txt, prints ATE RMSE (after a rigid alignment), RPE and how the\n"
         "reported covariance compares with the drift (mean |e|^2 / mean sigma^2, 1 when consistent), and the\n"
         "frame-to-frame motion's (a twist's) with the truth's motion.\n"
         "With --ransac-seeds N the same features are tracked N times, RANSAC seeded motion.seed + k:\n"
         "the trajectory written is the first seed's, and the ATE's mean, median and range over the N follow.\n"
+        "--image-noise SIGMA tracks the recording as a noisier camera would see it; over several --noise-seed\n"
+        "values the ATE's spread is what noise alone moves, to weigh a difference between settings against.\n"
         "--step N tracks frames S, S + N, S + 2N, ... (S from --start): the camera at a lower rate. Where the\n"
         "keyframes fall moves the ATE (docs/odometry.md): with several starts (--start 0,7,14 or, with\n"
         "--step 3, --start 0,1,2) each start is a chain of its own, reported in turn, and the mean and range\n"
@@ -383,7 +404,18 @@ int main(int argc, char** argv) {
       chains.push_back(chain);
     }
 
-    FeatureCache features(sequence, K, features_name, params, chains);
+    ImageNoise noise;
+    noise.sigma = args.getDouble("image-noise", 0.0);
+    if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 255.0) {
+      throw risas::cli::UsageError("--image-noise is 0 to 255 grey levels, not " + args.get("image-noise"));
+    }
+    noise.seed = static_cast<uint32_t>(args.getInt("noise-seed", 0, 0, 1000000000));
+    if (noise.sigma == 0.0) args.refuse({"noise-seed"}, "without --image-noise");
+    FeatureCache features(sequence, K, features_name, params, noise, chains);
+    if (noise.sigma > 0.0) {
+      std::cout << "Colour images with grey noise of sigma " << noise.sigma << " (noise seed " << noise.seed
+                << ") before their features\n";
+    }
     run.features = &features;
 
     std::vector<double> chain_ates;  // each scored chain's mean over the seeds
