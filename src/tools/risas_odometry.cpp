@@ -101,10 +101,6 @@ double mean(const std::vector<double>& values) {
   return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
 }
 
-// The features of a recording's frames for a set of chains, extracted once
-// a frame: the seeds and the chains change only the tracking. A frame's
-// are kept (about 0.3 MB a frame at 1000 keypoints) until every chain that
-// has the frame has released it.
 // --image-noise and --noise-seed: frame i's colour image gets
 // withImageNoise(sigma, seed, i), the same in every chain.
 struct ImageNoise {
@@ -112,6 +108,10 @@ struct ImageNoise {
   uint32_t seed = 0;
 };
 
+// The features of a recording's frames for a set of chains, extracted once
+// a frame: the seeds and the chains change only the tracking. A frame's
+// are kept (about 0.3 MB a frame at 1000 keypoints) until every chain that
+// has the frame has released it.
 class FeatureCache {
  public:
   // features_name: RISAS (with params), ORB or ORB-distinct. noise: grey
@@ -377,6 +377,13 @@ int main(int argc, char** argv) {
     const int step = args.getInt("step", 1, 1, 1000000);
     const std::vector<int> starts = args.getIntList("start", "0", 0, 100000000);
     const double truth_offset = args.getDouble("truth-offset", 0.0);
+    ImageNoise noise;
+    noise.sigma = args.getDouble("image-noise", 0.0);
+    if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 255.0) {
+      throw risas::cli::UsageError("--image-noise is 0 to 255 grey levels, not " + args.get("image-noise"));
+    }
+    noise.seed = static_cast<uint32_t>(args.getInt("noise-seed", 0, 0, 1000000000));
+    if (noise.sigma == 0.0) args.refuse({"noise-seed"}, "without --image-noise");
     const risas::TumSequence sequence =
         risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"), truth_offset);
     Run run;
@@ -404,13 +411,6 @@ int main(int argc, char** argv) {
       chains.push_back(chain);
     }
 
-    ImageNoise noise;
-    noise.sigma = args.getDouble("image-noise", 0.0);
-    if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 255.0) {
-      throw risas::cli::UsageError("--image-noise is 0 to 255 grey levels, not " + args.get("image-noise"));
-    }
-    noise.seed = static_cast<uint32_t>(args.getInt("noise-seed", 0, 0, 1000000000));
-    if (noise.sigma == 0.0) args.refuse({"noise-seed"}, "without --image-noise");
     FeatureCache features(sequence, K, features_name, params, noise, chains);
     if (noise.sigma > 0.0) {
       std::cout << "Colour images with grey noise of sigma " << noise.sigma << " (noise seed " << noise.seed
