@@ -211,10 +211,7 @@ TEST_F(Tools, OdometryRunsEachRansacSeedAndWritesTheFirstSeedsTrajectory) {
   ASSERT_EQ(three.exit_code, 0) << three.output;
   const auto ateLine = [](const std::string& output) { return output.substr(output.find("ATE RMSE "), 40); };
   EXPECT_EQ(ateLine(three.output), ateLine(one.output));
-  std::ifstream a(file("one.txt")), b(file("three.txt"));
-  std::stringstream ta, tb;
-  ta << a.rdbuf(), tb << b.rdbuf();
-  EXPECT_EQ(tb.str(), ta.str());
+  EXPECT_EQ(test::fileText(file("three.txt")), test::fileText(file("one.txt")));
   // The rendered motion is exact: every seed recovers it within a centimetre.
   const size_t over = three.output.find("ATE RMSE over 3 RANSAC seeds: mean ");
   ASSERT_NE(over, std::string::npos) << three.output;
@@ -256,12 +253,7 @@ double numberAfter(const std::string& output, const std::string& label) {
 TEST_F(Tools, OdometryAddsTheSameImageNoiseForASeedAndOtherNoiseForAnother) {
   const std::string common =
       "risas_odometry --tum " + tumFolder(3).string() + " --intrinsics " + file("camera-intrinsics.txt");
-  const auto trajectory = [&](const std::string& name) {
-    std::ifstream in(file(name));
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-  };
+  const auto trajectory = [&](const std::string& name) { return test::fileText(file(name)); };
   ToolRun r = run(common + " --out " + file("clean.txt"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("grey noise"), std::string::npos) << r.output;
@@ -668,9 +660,7 @@ TEST_F(Tools, AFullDiskIsAnErrorNotASuccess) {
                                      .c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 1);
-  std::stringstream said;
-  said << std::ifstream(errors).rdbuf();
-  EXPECT_EQ(said.str(), "risas_extract: error: cannot write standard output: No space left on device\n");
+  EXPECT_EQ(test::fileText(errors), "risas_extract: error: cannot write standard output: No space left on device\n");
 }
 
 // Each option is taken once and none is ignored in silence: an option

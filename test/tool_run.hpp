@@ -18,6 +18,13 @@ struct ToolRun {
   std::string output;  // standard output and errors together
 };
 
+// The whole text of the file at `path` ("" when it cannot be read).
+inline std::string fileText(const std::filesystem::path& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
+
 // RISAS_BIN_DIR/<command_line> in sh; `shell` runs before it in the same
 // shell (a limit for the tool alone: "ulimit -f 512; exec ").
 inline ToolRun runTool(const std::string& command_line, const std::string& shell = "") {
@@ -25,10 +32,9 @@ inline ToolRun runTool(const std::string& command_line, const std::string& shell
   const fs::path log = fs::temp_directory_path() / ("risas_tool_" + std::to_string(::getpid()) + ".log");
   const int status = std::system(
       (shell + std::string(RISAS_BIN_DIR) + "/" + command_line + " > " + log.string() + " 2>&1").c_str());
-  std::stringstream text;
-  text << std::ifstream(log).rdbuf();
+  const std::string output = fileText(log);
   fs::remove(log);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 // /dev/full under `path`: it opens, and every write to it fails as on a
