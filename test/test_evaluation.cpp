@@ -9,6 +9,7 @@
 
 #include "input_error.hpp"
 #include "synthetic_fixtures.hpp"
+#include "tool_run.hpp"
 
 #include <gtest/gtest.h>
 
@@ -300,13 +301,10 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   std::string methods = "RISAS,ORB";
   if (havePcl()) methods += ",RISAS+CSHOT";
   const fs::path out = root / "out";
-  const std::string log = (root / "log.txt").string();
-  const int status = std::system((bin + "/risas_evaluate --data " + root.string() + " --out " + out.string() +
-                                  " --methods " + methods + " > " + log + " 2>&1").c_str());
-  std::stringstream output;
-  output << std::ifstream(log).rdbuf();
-  ASSERT_EQ(status, 0) << output.str();
-  EXPECT_NE(output.str().find("[2/2] texture/viewchange 3:"), std::string::npos) << output.str();
+  const test::ToolRun run =
+      test::runTool("risas_evaluate --data " + root.string() + " --out " + out.string() + " --methods " + methods);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("[2/2] texture/viewchange 3:"), std::string::npos) << run.output;
   for (const char* file : {"pairs.csv", "curves.csv", "summary.csv", "summary.md", "scale.csv"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
@@ -353,7 +351,7 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   EXPECT_EQ(rows, havePcl() ? 3 : 2);
   EXPECT_GT(risas_auc, 0.3) << "RISAS on exact synthetic poses (measured 0.49; random descriptors give about 0)";
   if (std::system("/usr/bin/python3 -c 'import matplotlib' 2> /dev/null") == 0) {
-    EXPECT_TRUE(fs::exists(out / "pr_texture_viewchange.png")) << output.str();
+    EXPECT_TRUE(fs::exists(out / "pr_texture_viewchange.png")) << run.output;
   }
   // The layout study: one RISAS per rings x rank groups, each named by them.
   const fs::path layout = root / "layout";
@@ -383,13 +381,11 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   ASSERT_EQ(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods RISAS --pose-refit reprojection" +
                          " --no-plots --out " + refit.string() + " > /dev/null 2>&1").c_str()),
             0);
-  std::stringstream refit_md;
-  refit_md << std::ifstream(refit / "summary.md").rdbuf();
-  EXPECT_NE(refit_md.str().find("(2 deg / 2 cm), refitted on the reprojection errors, % of pairs"), std::string::npos)
-      << refit_md.str();
-  std::stringstream default_md;
-  default_md << std::ifstream(out / "summary.md").rdbuf();
-  EXPECT_EQ(default_md.str().find("reprojection"), std::string::npos) << default_md.str();
+  const std::string refit_md = test::fileText(refit / "summary.md");
+  EXPECT_NE(refit_md.find("(2 deg / 2 cm), refitted on the reprojection errors, % of pairs"), std::string::npos)
+      << refit_md;
+  const std::string default_md = test::fileText(out / "summary.md");
+  EXPECT_EQ(default_md.find("reprojection"), std::string::npos) << default_md;
   std::ifstream refit_summary(refit / "summary.csv");
   std::getline(refit_summary, line);
   ASSERT_TRUE(std::getline(refit_summary, line));

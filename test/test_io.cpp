@@ -2,6 +2,7 @@
 // wrong files give InputError (or runtime_error for unreadable parameter files).
 #include "input_error.hpp"
 #include "synthetic_fixtures.hpp"
+#include "tool_run.hpp"
 
 #include "risas/errors.hpp"
 #include "risas/io.hpp"
@@ -14,7 +15,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 namespace risas {
 namespace {
@@ -309,9 +309,7 @@ TEST(FeaturesFile, RoundTripsInYamlAndJson) {
 TEST(WrittenFiles, AreWholeOrAnErrorNamingTheFileAndTheReason) {
   const TempDir dir;
   writeTextFile(dir.file("plain.txt"), "one\ntwo\n", "test file");
-  std::stringstream back;
-  back << std::ifstream(dir.file("plain.txt")).rdbuf();
-  EXPECT_EQ(back.str(), "one\ntwo\n");
+  EXPECT_EQ(test::fileText(dir.file("plain.txt")), "one\ntwo\n");
   writeTextFile(dir.file("packed.yml.gz"), "%YAML:1.0\n---\nvalue: 3\n", "test file");  // gzip: FileStorage reads it
   EXPECT_EQ(static_cast<int>(cv::FileStorage(dir.file("packed.yml.gz"), cv::FileStorage::READ)["value"]), 3);
   std::ifstream packed(dir.file("packed.yml.gz"), std::ios::binary);
