@@ -13,11 +13,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace risas::eval {
@@ -155,6 +156,10 @@ TEST(Protocol, ListsPairsOfEverySequenceTypeWithTheirGroundTruth) {
   EXPECT_EQ(fs::path(pairs[1].query.depth).filename(), "depth_1.png") << "transformed images use depth_1";
   EXPECT_DOUBLE_EQ(pairs[5].image_rotation_deg, 30.0);
   EXPECT_EQ(fs::path(pairs[5].reference.rgb).filename(), "rgb_6.png");
+  // The names drawn noise is keyed on: the colour image's path under the root.
+  EXPECT_EQ(pairs[1].reference.name, "texture/illum/rgb_1.png");
+  EXPECT_EQ(pairs[1].query.name, "texture/illum/rgb_1_cube.png");
+  EXPECT_EQ(pairs[5].query.name, "texture/synthetic_rotate/rgb_6_rotate30.png");
   EXPECT_TRUE(pairs[5].ref_T_query.isApprox(Eigen::Isometry3d::Identity()));
   fs::remove_all(root);
 }
@@ -260,6 +265,17 @@ TEST(ImageNoise, AddsZeroMeanGaussianNoiseOfSigmaToEachChannelSaturated) {
   EXPECT_NE(test::inputErrorOf([] { withImageNoise(cv::Mat(4, 4, CV_16UC1, cv::Scalar(0)), 1.0, 1, 0); })
                 .find("image noise is for 8-bit images"),
             std::string::npos);
+  EXPECT_NE(test::inputErrorOf([] { ImageNoise{-1.0, 0}.validate(); }).find("image noise sigma must be 0 to 255"),
+            std::string::npos);
+}
+
+// An image without a frame number is indexed by its name: 64-bit FNV-1a
+// (its published value for "a"), the same name the same index.
+TEST(ImageNoise, IndexOfANameIsItsFnv1aHash) {
+  EXPECT_EQ(imageNoiseIndex(""), 0xcbf29ce484222325ULL);
+  EXPECT_EQ(imageNoiseIndex("a"), 0xaf63dc4c8601ec8cULL);
+  EXPECT_EQ(imageNoiseIndex("texture/viewchange/rgb_2.png"), imageNoiseIndex("texture/viewchange/rgb_2.png"));
+  EXPECT_NE(imageNoiseIndex("texture/viewchange/rgb_2.png"), imageNoiseIndex("geometry/viewchange/rgb_2.png"));
 }
 
 TEST(Evaluator, AMissIsPreferredByTheDepthOnlyWhenItsPoseFitsClearlyBetter) {
@@ -420,6 +436,69 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ransac-seeds 0 > /dev/null 2>&1").c_str()), 0);
   EXPECT_NE(std::system((bin + "/risas_evaluate --data " + (root / "none").string() + " > /dev/null 2>&1").c_str()), 0);
+  fs::remove_all(root);
+}
+
+// risas_evaluate --image-noise: each image's noise is drawn from the seed
+// and its path under the root, so it is the same whichever pairs are asked
+// for and wherever the data lies, and another seed draws other noise. ORB
+// alone, one RANSAC seed: the tables are the noise's, not RANSAC's.
+TEST(EvaluateTool, ImageNoiseIsEachImagesWhereverTheDataLies) {
+  const fs::path root = fs::temp_directory_path() / ("risas_eval_noise_" + std::to_string(::getpid()));
+  const fs::path sequence = root / "a" / "texture" / "viewchange";
+  const std::string render = "risas_render_synthetic --frames 3 --step-deg 4 --out " + sequence.string();
+  ASSERT_EQ(test::runTool(render).exit_code, 0);
+  fs::rename(sequence / "camera-intrinsics.txt", root / "a" / "camera-intrinsics.txt");
+  fs::copy(root / "a", root / "b", fs::copy_options::recursive);
+  // pairs.csv's rows by pair label, without the timing (ms_per_frame), and
+  // curves.csv; what the tool printed in `said`.
+  std::string said;
+  const auto tables = [&](const std::string& data, const std::string& options) {
+    const fs::path out = root / "out";
+    fs::remove_all(out);
+    const test::ToolRun run = test::runTool("risas_evaluate --methods ORB --ransac-seeds 1 --no-plots --data " +
+                                            (root / data).string() + " --out " + out.string() + options);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    said = run.output;
+    const auto cellsOf = [](const std::string& line) {
+      std::vector<std::string> cells;
+      std::stringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      return cells;
+    };
+    std::stringstream pairs(test::fileText(out / "pairs.csv"));
+    std::string line;
+    std::getline(pairs, line);
+    const std::vector<std::string> header = cellsOf(line);
+    std::map<std::string, std::vector<std::string>> rows;
+    while (std::getline(pairs, line)) {
+      std::vector<std::string> row = cellsOf(line);
+      EXPECT_EQ(row.size(), header.size()) << line;
+      const std::string label = row.at(2);
+      row.erase(row.begin() + (std::find(header.begin(), header.end(), "ms_per_frame") - header.begin()));
+      rows[label] = row;
+    }
+    return std::make_pair(rows, test::fileText(out / "curves.csv"));
+  };
+  const auto noisy = tables("a", " --image-noise 5 --noise-seed 1");
+  ASSERT_EQ(noisy.first.size(), 2u);
+  EXPECT_EQ(tables("b", " --image-noise 5 --noise-seed 1"), noisy) << "another root, the same noise";
+  EXPECT_EQ(tables("a", " --image-noise 5 --noise-seed 1 --pairs 3").first.at("3"), noisy.first.at("3"))
+      << "rgb_1 and rgb_3 get their noise whether or not rgb_2 is read first";
+  EXPECT_NE(tables("a", " --image-noise 5 --noise-seed 2").second, noisy.second);
+  EXPECT_NE(said.find("Colour images with grey noise of sigma 5 (noise seed 2) before their features"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(tables("a", "").second, noisy.second);
+  EXPECT_EQ(said.find("grey noise"), std::string::npos) << said;
+  // Wrong noise options: one line.
+  for (const auto& [options, error] : std::vector<std::pair<std::string, std::string>>{
+           {" --image-noise 300", "risas_evaluate: --image-noise is 0 to 255 grey levels, not 300"},
+           {" --noise-seed 3", "risas_evaluate: --noise-seed does not apply without --image-noise"}}) {
+    const test::ToolRun run = test::runTool("risas_evaluate --data " + (root / "a").string() + options);
+    EXPECT_EQ(run.exit_code, 2) << options;
+    EXPECT_NE(run.output.find(error), std::string::npos) << run.output;
+  }
   fs::remove_all(root);
 }
 

@@ -140,6 +140,8 @@ TEST_F(Tum, EvaluationPairsCarryTheRelativeMotion) {
   EXPECT_EQ(pairs[2].sequence, "gap2");
   EXPECT_EQ(pairs[2].scene, dir_.filename().string());
   EXPECT_DOUBLE_EQ(pairs[0].query.depth_units_per_metre, kTumDepthUnitsPerMetre);
+  // The name drawn noise is keyed on: the path as rgb.txt has it, under the folder.
+  EXPECT_EQ(pairs[2].query.name, "rgb/" + fs::path(pairs[2].query.rgb).filename().string());
   // Frame 0 at x = 0, frame 2 (10.30) at x = 0.3: p_ref = p_query + (0.3, 0, 0).
   EXPECT_NEAR(pairs[2].ref_T_query.translation().x(), 0.3, 1e-9);
   EXPECT_TRUE(pairs[2].ref_T_query.linear().isIdentity(1e-12));

@@ -10,14 +10,16 @@
 namespace risas::eval {
 
 Evaluator::Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics, double d_min,
-                     double report_ratio, int ransac_seeds, PoseRefit refit)
+                     double report_ratio, int ransac_seeds, PoseRefit refit, const ImageNoise& noise)
     : methods_(std::move(methods)),
       intrinsics_(intrinsics),
       d_min_(d_min),
       report_ratio_(report_ratio),
       ransac_seeds_(ransac_seeds),
-      refit_(refit) {
+      refit_(refit),
+      noise_(noise) {
   if (ransac_seeds < 1) throw InputError("ransac_seeds must be at least 1, got " + std::to_string(ransac_seeds));
+  noise.validate();
 }
 
 Evaluator::Processed Evaluator::process(const FeatureMethod& method, const LoadedFrame& frame) {
@@ -50,7 +52,10 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
 }  // namespace
 
 Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
-  const RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
+  RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
+  if (noise_.sigma > 0.0) {
+    images.bgr = withImageNoise(images.bgr, noise_.sigma, noise_.seed, imageNoiseIndex(paths.name));
+  }
   return {images.bgr, rgbdFrameOf(images, intrinsics_, paths.depth_units_per_metre)};
 }
 

@@ -8,10 +8,14 @@
 
 namespace risas::eval {
 
-cv::Mat withImageNoise(const cv::Mat& image, double sigma, uint32_t seed, uint64_t index) {
+void ImageNoise::validate() const {
   if (!std::isfinite(sigma) || sigma < 0.0 || sigma > 255.0) {
     throw InputError("image noise sigma must be 0 to 255 grey levels, got " + std::to_string(sigma));
   }
+}
+
+cv::Mat withImageNoise(const cv::Mat& image, double sigma, uint32_t seed, uint64_t index) {
+  ImageNoise{sigma, seed}.validate();
   if (image.depth() != CV_8U) {
     throw InputError("image noise is for 8-bit images, got " + describeType(image));
   }
@@ -31,6 +35,15 @@ cv::Mat withImageNoise(const cv::Mat& image, double sigma, uint32_t seed, uint64
   cv::Mat noisy;
   sum.convertTo(noisy, image.type());  // rounds, and saturates at 0 and 255
   return noisy;
+}
+
+uint64_t imageNoiseIndex(const std::string& name) {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const char c : name) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
 }
 
 }  // namespace risas::eval

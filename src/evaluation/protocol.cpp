@@ -22,8 +22,12 @@ Eigen::Isometry3d readPose(const fs::path& dir, int k, GroundTruthPoses which) {
                        (poses / ("T1-" + std::to_string(k) + ".txt")).string());
 }
 
+// Named under the root by listPairs.
 FramePaths frame(const fs::path& dir, const std::string& rgb_name, const std::string& depth_name) {
-  return {(dir / rgb_name).string(), (dir / depth_name).string()};
+  FramePaths f;
+  f.rgb = (dir / rgb_name).string();
+  f.depth = (dir / depth_name).string();
+  return f;
 }
 
 bool exists(const FramePaths& f) { return fs::exists(f.rgb) && fs::exists(f.depth); }
@@ -45,6 +49,9 @@ std::vector<Pair> listPairs(const std::string& root, const std::vector<std::stri
       const auto add = [&](Pair p) {
         p.scene = scene;
         p.sequence = sequence;
+        for (FramePaths* f : {&p.reference, &p.query}) {
+          f->name = scene + "/" + sequence + "/" + fs::path(f->rgb).filename().string();
+        }
         if (exists(p.reference) && exists(p.query)) pairs.push_back(std::move(p));
       };
       if (sequence == "illum") {
@@ -145,8 +152,8 @@ std::vector<Pair> listTumPairs(const std::string& dir, const TumSequence& sequen
       p.sequence = "gap" + std::to_string(gap);
       p.label = std::to_string(i) + "+" + std::to_string(gap);
       p.step = gap;
-      p.reference = {a.rgb, a.depth, kTumDepthUnitsPerMetre};
-      p.query = {b.rgb, b.depth, kTumDepthUnitsPerMetre};
+      p.reference = {a.rgb, a.depth, kTumDepthUnitsPerMetre, fs::path(a.rgb).lexically_relative(dir).generic_string()};
+      p.query = {b.rgb, b.depth, kTumDepthUnitsPerMetre, fs::path(b.rgb).lexically_relative(dir).generic_string()};
       p.ref_T_query = a.world_T_camera->inverse() * *b.world_T_camera;
       pairs.push_back(std::move(p));
     }

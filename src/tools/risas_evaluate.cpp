@@ -2,6 +2,7 @@
 // a dataset in the ManipulatorsDataset layout: PR curves, PR-AUC, precision,
 // recall and correct matches at NNDR 0.8, ms per frame; CSV, markdown, plots.
 #include "cli.hpp"
+#include "image_noise_options.hpp"
 
 #include "risas/errors.hpp"
 #include "risas/evaluation/evaluator.hpp"
@@ -143,27 +144,34 @@ int main(int argc, char** argv) {
         {"ransac-seeds", "N", "pose recovery with N RANSAC seeds, success as the share of them (default: 8)"},
         {"pose-refit", "NAME", "umeyama: the pose fitted to the inliers' 3D points (default); reprojection: then refined on their reprojection errors, as risas_odometry"},
         {"ground-truth", "NAME", "with --data: corrected: a sequence's corrected/ poses where it has them (default, the dataset's README); raw: the arm's R1-k/T1-k.txt, which agree with the images under fitted intrinsics (risas_fit_intrinsics)"},
-        {"no-plots", "", "do not plot (plots with " + plot_script + ")"},
-        risas::cli::paramsOption()};
+        {"no-plots", "", "do not plot (plots with " + plot_script + ")"}};
+    for (const risas::cli::Option& o : risas::cli::imageNoiseOptions("an image's is the same in every pair")) {
+      options.push_back(o);
+    }
+    options.push_back(risas::cli::paramsOption());
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
         "risas_evaluate --data DATASET_ROOT [--out DIR] [--methods M,...] [--scenes S,...] [--sequences S,...]\n"
         "               [--pairs LABEL,...] [--study bins|layout|tau] [--ransac-seeds N] [--pose-refit umeyama|reprojection]\n"
         "               [--intrinsics K.txt | --fx F --fy F --cx C --cy C] [--ground-truth corrected|raw]\n"
-        "               [--params P.yml] [--no-plots]\n"
+        "               [--params P.yml] [--no-plots] [--image-noise SIGMA [--noise-seed N]]\n"
         "risas_evaluate --tum TUM_DIR --intrinsics K.txt | --fx F --fy F --cx C --cy C [--gaps 1,2]\n"
         "               [--pair-stride N] [--truth-offset S] [--out DIR] [--methods M,...] [--ransac-seeds N]\n"
         "               [--pose-refit umeyama|reprojection] [--params P.yml] [--no-plots]\n"
+        "               [--image-noise SIGMA [--noise-seed N]]\n"
         "Reference frame against query frame: NNDR matching, a match correct when its 3D points\n"
         "agree within 5 cm under the ground truth; PR curves, PR-AUC, precision, recall and\n"
         "correct matches at ratio 0.8; the rigid motion RANSAC recovers from those matches and its\n"
         "error (success within 5 deg / 5 cm and 2 deg / 2 cm, the share of the RANSAC seeds), per\n"
         "pair, sequence and scene.\n"
+        "--image-noise SIGMA evaluates the images as a noisier camera (dim light) would see them; each\n"
+        "image's noise is drawn from --noise-seed and its path under the data's root.\n"
         "Writes pairs.csv, curves.csv, summary.csv, summary.md, scale.csv and PNG plots into DIR.",
         options);
     cv::setNumThreads(1);  // every method single-threaded, as the paper timed them
     const int ransac_seeds = args.getInt("ransac-seeds", 8, 1, 1000);
+    const risas::eval::ImageNoise noise = risas::cli::imageNoiseFrom(args);
     const std::string refit_name = args.get("pose-refit", "umeyama");
     if (refit_name != "umeyama" && refit_name != "reprojection") {
       throw risas::cli::UsageError("--pose-refit is umeyama or reprojection, not '" + refit_name + "'");
@@ -202,7 +210,8 @@ int main(int argc, char** argv) {
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
 
     risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
-                                     risas::eval::kReportRatio, ransac_seeds, refit);
+                                     risas::eval::kReportRatio, ransac_seeds, refit, noise);
+    risas::cli::noteImageNoise(noise);
     std::vector<risas::eval::PairResult> results;
     for (size_t i = 0; i < pairs.size(); ++i) {
       const risas::eval::Pair& pair = pairs[i];

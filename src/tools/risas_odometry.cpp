@@ -2,6 +2,7 @@
 // trajectory (one line per frame given, lost frames at their held pose),
 // scored against the folder's ground truth (ATE, RPE) when it has one.
 #include "cli.hpp"
+#include "image_noise_options.hpp"
 
 #include "risas/errors.hpp"
 #include "risas/evaluation/image_noise.hpp"
@@ -101,13 +102,6 @@ double mean(const std::vector<double>& values) {
   return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
 }
 
-// --image-noise and --noise-seed: frame i's colour image gets
-// withImageNoise(sigma, seed, i), the same in every chain.
-struct ImageNoise {
-  double sigma = 0.0;
-  uint32_t seed = 0;
-};
-
 // The features of a recording's frames for a set of chains, extracted once
 // a frame: the seeds and the chains change only the tracking. A frame's
 // are kept (about 0.3 MB a frame at 1000 keypoints) until every chain that
@@ -115,9 +109,11 @@ struct ImageNoise {
 class FeatureCache {
  public:
   // features_name: RISAS (with params), ORB or ORB-distinct. noise: grey
-  // noise added to each colour image before its features (sigma 0: none).
+  // noise added to each colour image before its features (sigma 0: none),
+  // frame i's withImageNoise(sigma, seed, i), the same in every chain.
   FeatureCache(const risas::TumSequence& sequence, const risas::Intrinsics& K, const std::string& features_name,
-               const risas::RisasParams& params, const ImageNoise& noise, const std::vector<std::vector<size_t>>& chains)
+               const risas::RisasParams& params, const risas::eval::ImageNoise& noise,
+               const std::vector<std::vector<size_t>>& chains)
       : sequence_(sequence),
         K_(K),
         features_name_(features_name),
@@ -155,7 +151,7 @@ class FeatureCache {
   const risas::TumSequence& sequence_;
   const risas::Intrinsics K_;
   const std::string features_name_;
-  const ImageNoise noise_;
+  const risas::eval::ImageNoise noise_;
   const cv::Ptr<risas::Risas> risas_;
   const cv::Ptr<cv::ORB> orb_;
   std::vector<int> uses_;  // per frame: the chains that have not released it
@@ -335,13 +331,11 @@ int main(int argc, char** argv) {
              " s): for a motion capture whose clock is off the camera's (default 0; TUM's evaluate_ate.py --offset "
              "shifts the other file)"},
         {"max-frames", "N", "track at most N frames a chain"},
-        {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"},
-        {"image-noise", "SIGMA",
-         "add zero-mean Gaussian noise of SIGMA grey levels to each channel of each colour image before its "
-         "features, as dim light does (default 0: none); 1 is below a Kinect's own noise"},
-        {"noise-seed", "N", "the noise's draw: another N, other noise; each frame's is the same in every chain "
-                            "(default 0)"},
-        risas::cli::paramsOption()};
+        {"ransac-seeds", "N", "also run with RANSAC seeds motion.seed + 1 .. N - 1 and print the spread (default 1)"}};
+    for (const risas::cli::Option& o : risas::cli::imageNoiseOptions("each frame's is the same in every chain")) {
+      options.push_back(o);
+    }
+    options.push_back(risas::cli::paramsOption());
     for (const risas::cli::Option& o : risas::cli::intrinsicsOptions()) options.push_back(o);
     const risas::cli::Args args(
         argc, argv,
@@ -377,13 +371,7 @@ int main(int argc, char** argv) {
     const int step = args.getInt("step", 1, 1, 1000000);
     const std::vector<int> starts = args.getIntList("start", "0", 0, 100000000);
     const double truth_offset = args.getDouble("truth-offset", 0.0);
-    ImageNoise noise;
-    noise.sigma = args.getDouble("image-noise", 0.0);
-    if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 255.0) {
-      throw risas::cli::UsageError("--image-noise is 0 to 255 grey levels, not " + args.get("image-noise"));
-    }
-    noise.seed = static_cast<uint32_t>(args.getInt("noise-seed", 0, 0, 1000000000));
-    if (noise.sigma == 0.0) args.refuse({"noise-seed"}, "without --image-noise");
+    const risas::eval::ImageNoise noise = risas::cli::imageNoiseFrom(args);
     const risas::TumSequence sequence =
         risas::cli::readTumSequenceNoting("risas_odometry", args.get("tum"), truth_offset);
     Run run;
@@ -412,10 +400,7 @@ int main(int argc, char** argv) {
     }
 
     FeatureCache features(sequence, K, features_name, params, noise, chains);
-    if (noise.sigma > 0.0) {
-      std::cout << "Colour images with grey noise of sigma " << noise.sigma << " (noise seed " << noise.seed
-                << ") before their features\n";
-    }
+    risas::cli::noteImageNoise(noise);
     run.features = &features;
 
     std::vector<double> chain_ates;  // each scored chain's mean over the seeds

@@ -1,6 +1,7 @@
 // Runs feature methods over dataset pairs under the protocol and scores them.
 #pragma once
 
+#include "risas/evaluation/image_noise.hpp"
 #include "risas/evaluation/methods.hpp"
 #include "risas/evaluation/metrics.hpp"
 #include "risas/evaluation/pose_recovery.hpp"
@@ -75,10 +76,13 @@ class Evaluator {
   // precision, recall and correct matches are reported; ransac_seeds: how
   // many RANSAC seeds each pair's pose recovery runs with (PoseShares; at
   // least 1, else InputError); refit: what its RANSAC motion is finally
-  // fitted to (PoseRefit).
+  // fitted to (PoseRefit); noise: grey noise added to each colour image
+  // before every method sees it, keyed on the frame's name (FramePaths), so
+  // an image shared by pairs is the same noisy image in each (a sigma
+  // outside 0..255: InputError).
   Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics,
             double d_min = kCorrectDistance, double report_ratio = kReportRatio, int ransac_seeds = 1,
-            PoseRefit refit = PoseRefit::Umeyama);
+            PoseRefit refit = PoseRefit::Umeyama, const ImageNoise& noise = ImageNoise());
 
   // Every method on the pair; a reference frame shared by several pairs is
   // processed once per method. InputError for unreadable frames.
@@ -103,6 +107,7 @@ class Evaluator {
   double d_min_, report_ratio_;
   int ransac_seeds_;
   PoseRefit refit_;
+  ImageNoise noise_;
   std::map<std::pair<std::string, std::string>, Processed> reference_cache_;  // (method, rgb path)
 };
 

@@ -19,6 +19,10 @@ struct FramePaths {
   std::string rgb;
   std::string depth;
   double depth_units_per_metre = kMillimetreDepthUnits;  // the dataset's; TUM: 5000
+  // The colour image's path under the dataset's root or the TUM folder
+  // ("texture/viewchange/rgb_3.png", "rgb/1305031102.175304.png"): the
+  // same wherever the data lies, which drawn noise is keyed on (Evaluator).
+  std::string name;
 };
 
 // Reference frame 1 against a query frame. For synthetic_rotate the query is
