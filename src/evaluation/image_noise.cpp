@@ -8,10 +8,10 @@
 
 namespace risas::eval {
 
+bool ImageNoise::sigmaValid() const { return std::isfinite(sigma) && sigma >= 0.0 && sigma <= 255.0; }
+
 void ImageNoise::validate() const {
-  if (!std::isfinite(sigma) || sigma < 0.0 || sigma > 255.0) {
-    throw InputError("image noise sigma must be 0 to 255 grey levels, got " + std::to_string(sigma));
-  }
+  if (!sigmaValid()) throw InputError("image noise sigma must be 0 to 255 grey levels, got " + std::to_string(sigma));
 }
 
 cv::Mat withImageNoise(const cv::Mat& image, double sigma, uint32_t seed, uint64_t index) {

@@ -7,7 +7,6 @@
 
 #include "risas/evaluation/image_noise.hpp"
 
-#include <cmath>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -27,7 +26,7 @@ inline std::vector<Option> imageNoiseOptions(const std::string& same_draw) {
 inline eval::ImageNoise imageNoiseFrom(const Args& args) {
   eval::ImageNoise noise;
   noise.sigma = args.getDouble("image-noise", 0.0);
-  if (!std::isfinite(noise.sigma) || noise.sigma < 0.0 || noise.sigma > 255.0) {
+  if (!noise.sigmaValid()) {
     throw UsageError("--image-noise is 0 to 255 grey levels, not " + args.get("image-noise"));
   }
   noise.seed = static_cast<uint32_t>(args.getInt("noise-seed", 0, 0, 1000000000));

@@ -16,7 +16,8 @@ namespace risas::eval {
 struct ImageNoise {
   double sigma = 0.0;
   uint32_t seed = 0;
-  void validate() const;  // InputError for a sigma negative, not finite or above 255
+  bool sigmaValid() const;  // sigma is finite and 0 to 255
+  void validate() const;    // InputError unless sigmaValid()
 };
 
 // `image` (8-bit, any number of channels) plus zero-mean Gaussian noise of
