@@ -160,6 +160,10 @@ TEST(Protocol, ListsPairsOfEverySequenceTypeWithTheirGroundTruth) {
   EXPECT_EQ(pairs[1].reference.name, "texture/illum/rgb_1.png");
   EXPECT_EQ(pairs[1].query.name, "texture/illum/rgb_1_cube.png");
   EXPECT_EQ(pairs[5].query.name, "texture/synthetic_rotate/rgb_6_rotate30.png");
+  EXPECT_EQ(pairs[5].query.noiseKey(), pairs[5].query.name);
+  FramePaths by_hand;  // listed without a name: its noise is keyed on its path
+  by_hand.rgb = (root / "texture/scale/rgb_2.png").string();
+  EXPECT_EQ(by_hand.noiseKey(), by_hand.rgb);
   EXPECT_TRUE(pairs[5].ref_T_query.isApprox(Eigen::Isometry3d::Identity()));
   fs::remove_all(root);
 }

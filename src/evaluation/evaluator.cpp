@@ -54,7 +54,7 @@ int keepWithDepth(const MethodOutput& out, const std::function<cv::Point3f(const
 Evaluator::LoadedFrame Evaluator::load(const FramePaths& paths) const {
   RgbdImages images = readRgbdImages(paths.rgb, paths.depth);
   if (noise_.sigma > 0.0) {
-    images.bgr = withImageNoise(images.bgr, noise_.sigma, noise_.seed, imageNoiseIndex(paths.name));
+    images.bgr = withImageNoise(images.bgr, noise_.sigma, noise_.seed, imageNoiseIndex(paths.noiseKey()));
   }
   return {images.bgr, rgbdFrameOf(images, intrinsics_, paths.depth_units_per_metre)};
 }

@@ -77,7 +77,7 @@ class Evaluator {
   // many RANSAC seeds each pair's pose recovery runs with (PoseShares; at
   // least 1, else InputError); refit: what its RANSAC motion is finally
   // fitted to (PoseRefit); noise: grey noise added to each colour image
-  // before every method sees it, keyed on the frame's name (FramePaths), so
+  // before every method sees it, keyed on FramePaths::noiseKey(), so
   // an image shared by pairs is the same noisy image in each (a sigma
   // outside 0..255: InputError).
   Evaluator(std::vector<std::unique_ptr<FeatureMethod>> methods, const Intrinsics& intrinsics,

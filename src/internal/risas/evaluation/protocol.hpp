@@ -23,6 +23,10 @@ struct FramePaths {
   // ("texture/viewchange/rgb_3.png", "rgb/1305031102.175304.png"): the
   // same wherever the data lies, which drawn noise is keyed on (Evaluator).
   std::string name;
+  // What the noise is keyed on: the name, or the colour image's path where
+  // there is no name (a frame listed by hand), so that no two images share
+  // one draw.
+  const std::string& noiseKey() const { return name.empty() ? rgb : name; }
 };
 
 // Reference frame 1 against a query frame. For synthetic_rotate the query is
