@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace risas::eval {
 namespace {
@@ -434,12 +435,27 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   EXPECT_EQ(poseSuccess(""), 0.0) << "corrected/ is the default";
   EXPECT_EQ(poseSuccess(" --ground-truth raw"), 1.0);
   EXPECT_EQ(poseSuccess(" --ground-truth raw --fx 95 --fy 95 --cx 319.5 --cy 239.5"), 0.0);
-  // Wrong usage and missing data fail clearly.
-  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --pose-refit icp > /dev/null 2>&1").c_str()), 0);
-  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --study rings > /dev/null 2>&1").c_str()), 0);
-  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --methods SURF > /dev/null 2>&1").c_str()), 0);
-  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + root.string() + " --ransac-seeds 0 > /dev/null 2>&1").c_str()), 0);
-  EXPECT_NE(std::system((bin + "/risas_evaluate --data " + (root / "none").string() + " > /dev/null 2>&1").c_str()), 0);
+  // Wrong usage (exit 2) and missing data (1) fail in one line, and leave
+  // no output folder behind.
+  const fs::path never = root / "never";
+  for (const auto& [options, exit_code, error] : std::vector<std::tuple<std::string, int, std::string>>{
+           {" --pose-refit icp", 2, "--pose-refit is umeyama or reprojection, not 'icp'"},
+           {" --study rings", 2, "--study is bins, layout or tau, not 'rings'"},
+           {" --methods SURF", 1, "unknown method 'SURF'"},
+           {" --ransac-seeds 0", 2, "--ransac-seeds must be a whole number in [1, 1000], got '0'"},
+           {" --scenes texture --sequences none", 1, "--sequences: no folder 'none'"}}) {
+    const test::ToolRun run =
+        test::runTool("risas_evaluate --data " + root.string() + options + " --out " + never.string());
+    EXPECT_EQ(run.exit_code, exit_code) << options;
+    EXPECT_NE(run.output.find("risas_evaluate: "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find(error), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(never)) << options;
+  }
+  const test::ToolRun missing = test::runTool("risas_evaluate --data " + (root / "none").string() + " --out " + never.string());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("risas_evaluate: error: no folder " + (root / "none").string()), std::string::npos)
+      << missing.output;
+  EXPECT_FALSE(fs::exists(never));
   fs::remove_all(root);
 }
 

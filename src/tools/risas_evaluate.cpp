@@ -193,11 +193,9 @@ int main(int argc, char** argv) {
     }
     if (args.has("study")) args.refuse({"methods"}, "with --study: the study's methods are run");
     const std::string root = tum ? args.get("tum") : args.get("data"), out = args.get("out", "evaluation");
+    if (!std::filesystem::is_directory(root)) throw risas::InputError("no folder " + root);
     const risas::Intrinsics intrinsics =
         tum ? risas::cli::intrinsicsFrom(args) : risas::cli::intrinsicsGivenOrFound(args, root);
-    // The output folder, made and checked before hours of work.
-    risas::cli::makeOutputFolder(out);
-    risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
     const risas::RisasParams params = risas::cli::paramsFrom(args);
 
     std::vector<std::unique_ptr<risas::eval::FeatureMethod>> methods;
@@ -208,6 +206,10 @@ int main(int argc, char** argv) {
     }
     const std::vector<risas::eval::Pair> pairs = pairsFrom(args, root, tum, all_sequences, poses);
     if (pairs.empty()) throw risas::InputError("no pairs to evaluate under " + root + " with these filters");
+    // The output folder, made and checked before hours of work, and after
+    // every option and input has been checked: a typo leaves no folder.
+    risas::cli::makeOutputFolder(out);
+    risas::cli::requireWritable((std::filesystem::path(out) / "summary.csv").string());
 
     risas::eval::Evaluator evaluator(std::move(methods), intrinsics, risas::eval::kCorrectDistance,
                                      risas::eval::kReportRatio, ransac_seeds, refit, noise);
