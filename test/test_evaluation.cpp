@@ -20,12 +20,22 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
 #include <tuple>
+#include <vector>
 
 namespace risas::eval {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The cells of one line of the reports' CSV (no quoting: none is written).
+std::vector<std::string> cellsOf(const std::string& csv_line) {
+  std::vector<std::string> cells;
+  std::stringstream row(csv_line);
+  for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+  return cells;
+}
 
 TEST(Metrics, CurveAndAreaOfAHandMadeCase) {
   // Four positives; by ratio: correct, correct, wrong, correct.
@@ -157,6 +167,7 @@ TEST(Protocol, ListsPairsOfEverySequenceTypeWithTheirGroundTruth) {
   EXPECT_EQ(fs::path(pairs[1].query.depth).filename(), "depth_1.png") << "transformed images use depth_1";
   EXPECT_DOUBLE_EQ(pairs[5].image_rotation_deg, 30.0);
   EXPECT_EQ(fs::path(pairs[5].reference.rgb).filename(), "rgb_6.png");
+  EXPECT_TRUE(pairs[5].ref_T_query.isApprox(Eigen::Isometry3d::Identity()));
   // The names drawn noise is keyed on: the colour image's path under the root.
   EXPECT_EQ(pairs[1].reference.name, "texture/illum/rgb_1.png");
   EXPECT_EQ(pairs[1].query.name, "texture/illum/rgb_1_cube.png");
@@ -165,7 +176,6 @@ TEST(Protocol, ListsPairsOfEverySequenceTypeWithTheirGroundTruth) {
   FramePaths by_hand;  // listed without a name: its noise is keyed on its path
   by_hand.rgb = (root / "texture/scale/rgb_2.png").string();
   EXPECT_EQ(by_hand.noiseKey(), by_hand.rgb);
-  EXPECT_TRUE(pairs[5].ref_T_query.isApprox(Eigen::Isometry3d::Identity()));
   fs::remove_all(root);
 }
 
@@ -329,12 +339,6 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
   for (const char* file : {"pairs.csv", "curves.csv", "summary.csv", "summary.md", "scale.csv"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
-  const auto cellsOf = [](const std::string& csv_line) {
-    std::vector<std::string> cells;
-    std::stringstream row(csv_line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    return cells;
-  };
   std::ifstream summary(out / "summary.csv");
   std::string line;
   std::getline(summary, line);
@@ -451,7 +455,8 @@ TEST(EvaluateTool, RunsEndToEndOnARenderedSequence) {
     EXPECT_NE(run.output.find(error), std::string::npos) << run.output;
     EXPECT_FALSE(fs::exists(never)) << options;
   }
-  const test::ToolRun missing = test::runTool("risas_evaluate --data " + (root / "none").string() + " --out " + never.string());
+  const test::ToolRun missing =
+      test::runTool("risas_evaluate --data " + (root / "none").string() + " --out " + never.string());
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.output.find("risas_evaluate: error: no folder " + (root / "none").string()), std::string::npos)
       << missing.output;
@@ -480,12 +485,6 @@ TEST(EvaluateTool, ImageNoiseIsEachImagesWhereverTheDataLies) {
                                             (root / data).string() + " --out " + out.string() + options);
     EXPECT_EQ(run.exit_code, 0) << run.output;
     said = run.output;
-    const auto cellsOf = [](const std::string& line) {
-      std::vector<std::string> cells;
-      std::stringstream row(line);
-      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-      return cells;
-    };
     std::stringstream pairs(test::fileText(out / "pairs.csv"));
     std::string line;
     std::getline(pairs, line);
