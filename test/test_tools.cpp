@@ -751,7 +751,8 @@ TEST_F(Tools, OutputsThatCannotBeWrittenAreFoundFirst) {
            ": OpenCV has no image writer for '.xyz' (.png, .jpg, .tif, ...)"},
       {"risas_render_synthetic --out " + file("a_file"),
        "risas_render_synthetic: error: cannot make folder " + file("a_file") + ": a file of that name is there"},
-      {"risas_evaluate --data " + dir.string() + " --out " + file("a_file"),
+      {"risas_evaluate --tum " + tumFolder(3).string() + " --intrinsics " + file("camera-intrinsics.txt") +
+           " --out " + file("a_file"),
        "risas_evaluate: error: cannot make folder " + file("a_file") + ": a file of that name is there"},
   };
   for (const auto& [command, message] : failing) {
