@@ -126,6 +126,7 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   EXPECT_EQ(paper.geometry.normal_stride, 1);
   EXPECT_FALSE(paper.descriptor.soft_binning);  // one vote per sample
   EXPECT_EQ(paper.descriptor.sample_blur, 0.0);  // the frame's grey image
+  EXPECT_EQ(paper.descriptor.grey_noise, 0.0);  // exact ranks
   EXPECT_EQ(paper.descriptor.n_vec, 2);  // the shape labels
   EXPECT_EQ(paper.descriptor.n_bin, 8);  // eight rank groups
   EXPECT_EQ(paper.descriptor.n_ring, 1);  // sectors only
@@ -137,6 +138,7 @@ TEST(Params, PaperYamlSelectsThePapersChoices) {
   expected.descriptor.support_radius = 0.0, expected.descriptor.shape_orientation = true;
   expected.descriptor.patch_radius = 20, expected.descriptor.min_valid_fraction = 0.7;
   expected.descriptor.soft_binning = false, expected.descriptor.sample_blur = 0.0, expected.descriptor.n_vec = 2;
+  expected.descriptor.grey_noise = 0.0;
   expected.descriptor.n_bin = 8, expected.descriptor.n_ring = 1;
   expected.descriptor.gradient_orientation = false;
   EXPECT_EQ(paramsText(paper), paramsText(expected));

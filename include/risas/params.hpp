@@ -134,6 +134,17 @@ struct DescriptorParams {
   // so every distance sees the pattern smoothed alike. 0: the frame's grey
   // image, the paper's sampling. docs/method.md (descriptor step 5).
   double sample_blur = 0.5;
+  // The grey image's noise that the intensity ranks allow for, as a standard
+  // deviation in grey levels (with soft_binning). Two samples whose grey
+  // levels differ by less than the noise of a difference are not surely in
+  // that order: each sample takes its expected rank under the noise, so that
+  // on a patch of low contrast (a plain face, dim light) the noise moves the
+  // votes little instead of reordering them. Samples further apart keep
+  // their order, and with it the ranks' invariance to monotonic changes of
+  // light. < 0 (-1): each frame's own noise, estimated from its grey image
+  // (Immerkaer's estimator); 0: exact ranks, the paper's; > 0: this many
+  // grey levels. docs/method.md (descriptor step 5).
+  double grey_noise = -1.0;
   // rho-bar: normal dot products rho >= rho_threshold form one label.
   double rho_threshold = 0.9;
   // Patch radius before the ellipse fit. 0: the paper's eq. 3-4, in pixels,

@@ -1,6 +1,7 @@
 #include "risas/descriptor.hpp"
 
 #include "risas/errors.hpp"
+#include "risas/grey_noise.hpp"
 #include "risas/neighbourhood.hpp"
 #include "risas/orientation.hpp"
 #include "risas/workspace.hpp"
@@ -23,6 +24,10 @@ void Descriptor::compute(const RgbdFrame& frame, const FrameGeometry& geometry, 
   // frame to frame; the workspace keeps no header of the frame's own image.
   GreyPyramid& buffers = Workspace::ofThisThread().get<GreyPyramid>();
   buildGreyPyramid(frame.gray(), pyramidLevelsNeeded(params_), buffers);
+  // The noise the ranks allow for (soft binning's only): the frame's own
+  // unless the parameters give it.
+  const bool estimated = params_.soft_binning && params_.grey_noise < 0.0;
+  buffers.noise = static_cast<float>(estimated ? estimateGreyNoise(frame.gray()) : std::max(params_.grey_noise, 0.0));
   const GreyPyramid grey = buffers;
   buffers.level[0].release();
   const int n = static_cast<int>(keypoints.size());

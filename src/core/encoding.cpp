@@ -152,13 +152,13 @@ bool PatchEncoder::encode(const GreyPyramid& grey, const FrameGeometry& geometry
   if (params_.n_vec > 0) rankGroups(shapes, kRhoLevels, params_.n_vec, shape_rank);
 
   // Soft binning's rank groups: each grey level's two nearest groups by its
-  // mid-rank, and the upper one's weight.
+  // mid-rank under the grey image's noise, and the upper one's weight.
   uint8_t lower_group[256] = {};
   float upper_group_weight[256] = {};
   if (params_.soft_binning) {
     std::vector<int> grey_count(256, 0);
     for (const SampleLevels& c : counted) ++grey_count[static_cast<size_t>(c.grey)];
-    rankPositionTable(grey_count.data(), 256, params_.n_bin, lower_group, upper_group_weight);
+    rankPositionTable(grey_count.data(), 256, params_.n_bin, grey.noise, lower_group, upper_group_weight);
   }
 
   // The joint histogram (eq. 8): bins (sector, intensity group, shape

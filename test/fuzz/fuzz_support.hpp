@@ -132,6 +132,7 @@ inline risas::RisasParams params(Bytes& in) {
   p.descriptor.gradient_orientation = in.byte() % 2;
   p.descriptor.soft_binning = in.byte() % 2;
   p.descriptor.sample_blur = in.number(0.0, 4.0);
+  p.descriptor.grey_noise = in.byte() % 2 ? -1.0 : in.number(0.0, 64.0);
   p.geometry.normal_stride = in.in(1, 4);
   p.geometry.normal_radius = in.in(1, 8);
   return p;

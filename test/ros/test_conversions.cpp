@@ -520,7 +520,7 @@ TEST(Reconfigure, CfgNamesDefaultsAndRangesAreTheLibrarys) {
                                                 "window_sigma"}));
   EXPECT_EQ(descriptor, (std::vector<std::string>{"gamma", "n_pie", "n_bin", "n_vec", "n_ring", "shape_weight",
                                                   "rho_threshold", "support_radius", "gradient_orientation",
-                                                  "soft_binning", "sample_blur"}));
+                                                  "soft_binning", "sample_blur", "grey_noise"}));
   EXPECT_EQ(match, (std::vector<std::string>{"ratio", "cross_check"}));
 }
 

@@ -261,17 +261,18 @@ void countHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& se
 }
 
 // soft_binning's histogram: the readable encoding's two votes per counted
-// sample, between the rank groups rankPositionTable gives its grey level.
+// sample, between the rank groups rankPositionTable gives its grey level
+// under the grey image's noise.
 // Here the bins are laid out [sector][shape][group] (one spare bin at the
 // end), so that a sample's two groups are neighbours and take one two-float
 // addition. In the last group the upper weight is 0 and its addition, into
 // the next shape's first bin or the spare one, changes nothing. Reordered
 // into the readable layout in out, dimension floats, not normalised.
 void softHistogram(const DiscSamples& d, int n, const std::vector<uint16_t>& sector, const int* intensity_count,
-                   const uint8_t* shape_label, int n_bin, int n_shape, int dimension, float* out) {
+                   float grey_noise, const uint8_t* shape_label, int n_bin, int n_shape, int dimension, float* out) {
   uint8_t lower_group[256];
   float upper_group_weight[256];
-  rankPositionTable(intensity_count, 256, n_bin, lower_group, upper_group_weight);
+  rankPositionTable(intensity_count, 256, n_bin, grey_noise, lower_group, upper_group_weight);
   const int sector_step = n_shape * n_bin, sectors = dimension / sector_step;
   std::vector<float>& votes = Workspace::ofThisThread().get<Histogram>().votes;
   votes.assign(static_cast<size_t>(dimension) + 1, 0.0f);
@@ -364,7 +365,8 @@ bool encodePatchKernel(const GreyPyramid& grey, float lambda, const FrameGeometr
   static constexpr uint8_t kNoLabel[kRhoLevels + 1] = {};
   const uint8_t* joint_label = own_shape ? kNoLabel : shape_label;
   if (params.soft_binning) {
-    softHistogram(d, n, disc.sector, intensity_count, joint_label, params.n_bin, joint_shapes, intensity_bins, out);
+    softHistogram(d, n, disc.sector, intensity_count, grey.noise, joint_label, params.n_bin, joint_shapes,
+                  intensity_bins, out);
   } else {
     countHistogram(d, n, disc.sector, intensity_count, joint_label, params.n_bin, joint_shapes, intensity_bins, out);
   }

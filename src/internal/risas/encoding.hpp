@@ -24,6 +24,10 @@ struct GreyPyramid {
   static constexpr int kMaxLevels = 4;
   cv::Mat level[kMaxLevels];
   int levels = 0;
+  // The grey image's noise the intensity ranks allow for (grey levels, a
+  // standard deviation; DescriptorParams::grey_noise as resolved for the
+  // frame). 0: exact ranks.
+  float noise = 0.0f;
 };
 
 // The pyramid of `gray` with `levels` levels (at least 1, at most
@@ -78,9 +82,10 @@ class PatchEncoder {
   //   shape label:     rho = |n_k . n_i| (eq. 8); rho >= rho_threshold is one
   //                    label, the rest fall into n_vec rank groups.
   // With soft_binning a sample's vote is split between its two nearest rank
-  // groups by its mid-rank (rankPositionTable); sector and shape label stay
-  // one each. The histogram is L2-normalised into `out` (dimension() floats). False
-  // when fewer than min_valid_fraction of the samples count.
+  // groups by its mid-rank under grey.noise (rankPositionTable); sector and
+  // shape label stay one each. The histogram is L2-normalised into `out`
+  // (dimension() floats). False when fewer than min_valid_fraction of the
+  // samples count.
   bool encode(const GreyPyramid& grey, const FrameGeometry& geometry, const Neighbourhood& neighbourhood,
               float radius_px, double theta, float* out) const;
 

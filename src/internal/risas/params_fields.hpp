@@ -45,6 +45,7 @@ void visitFields(DescriptorParams& p, V&& v) {
   v("shape_weight", p.shape_weight, 0.0, 100.0);
   v("soft_binning", p.soft_binning);
   v("sample_blur", p.sample_blur, 0.0, 4.0);
+  v("grey_noise", p.grey_noise, -1.0, 64.0);
   v("rho_threshold", p.rho_threshold, 0.0, 1.0);
   v("support_radius", p.support_radius, 0.0, 1.0);
   v("background_distance", p.background_distance, 1e-3, 10.0);
