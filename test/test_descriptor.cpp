@@ -157,8 +157,8 @@ TEST(Ranking, SoftRankPositionsUnderNoiseAreTheExpectedMidRanks) {
   EXPECT_LT(lower[100] + upper[100], lower[101] + upper[101]);  // the order kept, as far as it is sure
 }
 
-// Immerkaer's estimator: the noise's sigma on a plain or planar image, 0
-// without noise, a little more on texture.
+// Immerkaer's estimator: the noise's sigma on a planar image, and 0 without
+// noise or without a pixel the mask fits around.
 TEST(GreyNoise, EstimatesTheSigmaOfGaussianNoise) {
   cv::Mat ramp(240, 320, CV_8UC1);
   for (int y = 0; y < ramp.rows; ++y) {
